@@ -1,0 +1,5 @@
+import sys
+
+from thesis.cli import main
+
+sys.exit(main())

@@ -1,0 +1,220 @@
+"""Command line: ``thesis run|bench|check|report`` (also ``python -m thesis``).
+
+- ``thesis run ch2/table2_2 --profile smoke``: run one registered experiment and write
+  its dataset (with provenance) to ``results/<profile>/<chapter>/<artifact>.nc``.
+- ``thesis bench physics --profile smoke``: run a registered benchmark the same way.
+- ``thesis check --profile smoke``: decide every claim from the profile's results and
+  write ``results/<profile>/claims.json``.
+- ``thesis report --profile smoke``: render ``reports/<profile>/index.html`` and
+  ``summary.md``; ``--figures ch3`` renders only that chapter's figures.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+import time
+from pathlib import Path
+
+from thesis import registry, store
+from thesis.config import PROFILES, load_config
+from thesis.errors import ConfigError, SimulationDiverged
+from thesis.runctx import RunContext
+
+log = logging.getLogger("thesis")
+
+
+def _kv(items: list[str] | None, what: str) -> dict[str, str]:
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise SystemExit(f"--{what} expects NAME=VALUE, got {item!r}")
+        k, v = item.split("=", 1)
+        out[k] = v
+    return out
+
+
+def _overrides(items: list[str] | None) -> dict:
+    """``--set ch2.epochs=3`` -> nested dict; values parsed as YAML scalars."""
+    import yaml
+
+    out: dict = {}
+    for k, v in _kv(items, "set").items():
+        node = out
+        parts = k.split(".")
+        for p in parts[:-1]:
+            node = node.setdefault(p, {})
+        node[parts[-1]] = yaml.safe_load(v)
+    return out
+
+
+def config_slice(config: dict, chapter: str) -> dict:
+    """The part of the configuration a chapter's results depend on (hashed into params)."""
+    return {"root_seed": config["root_seed"], "jax": config["jax"],
+            chapter: config.get(chapter, {})}
+
+
+def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = None,
+                   output: str | Path | None = None, overrides: dict | None = None,
+                   config_file: str | None = None) -> Path:
+    """Run registered experiment ``key`` and write its result atomically.
+
+    Returns:
+        The path of the written result (or of the generated input file).
+
+    Raises:
+        SimulationDiverged: the experiment produced NaN; nothing is written.
+    """
+    config = load_config(profile, config_file, overrides)
+    from thesis import jaxsetup
+
+    jaxsetup.configure(config["jax"])
+    chapter = key.split("/", 1)[0]
+    fn = registry.resolve(key)
+    out = Path(output) if output else store.result_path(profile, key)
+    ctx = RunContext(key=key, profile=profile, config=config.get(chapter, {}),
+                     full_config=config,
+                     inputs={k: Path(v) for k, v in (inputs or {}).items()},
+                     output=out, log=log)
+    started = store.now()
+    t0 = time.perf_counter()
+    log.info("running %s (profile %s) -> %s", key, profile, out)
+    ds = fn(ctx)
+    wall = time.perf_counter() - t0
+    if ds is None:
+        if not out.exists():
+            raise RuntimeError(f"generator {key} returned without writing {out}")
+        log.info("%s wrote %s in %.1f s", key, out, wall)
+        return out
+    store.write_dataset(ds, out, profile=profile, experiment=key,
+                        config_slice=config_slice(config, chapter), started=started,
+                        wall_seconds=wall)
+    log.info("%s wrote %s in %.1f s", key, out, wall)
+    return out
+
+
+def _cmd_run(args) -> int:
+    run_experiment(args.key, args.profile, inputs=_kv(args.input, "input"),
+                   output=args.output, overrides=_overrides(args.set),
+                   config_file=args.config_file)
+    return 0
+
+
+def _cmd_bench(args) -> int:
+    if args.name not in registry.BENCHMARKS:
+        known = ", ".join(sorted(registry.BENCHMARKS)) or "none yet"
+        raise SystemExit(f"unknown benchmark {args.name!r}; available: {known}")
+    run_experiment(registry.BENCHMARKS[args.name], args.profile, output=args.output,
+                   overrides=_overrides(args.set), config_file=args.config_file)
+    return 0
+
+
+def _cmd_check(args) -> int:
+    from thesis.claims import evaluate_all
+
+    config = load_config(args.profile, args.config_file)
+    results = store.load_results(args.profile, args.results)
+    verdicts = evaluate_all(results, config=config) if _takes_config(evaluate_all) \
+        else evaluate_all(results)
+    out = Path(args.output or Path(args.results) / args.profile / "claims.json")
+    payload = {"profile": args.profile, "n_results": len(results), "claims": verdicts}
+    with store.atomic_path(out) as tmp:
+        tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
+    counts: dict[str, int] = {}
+    for v in verdicts:
+        counts[v["status"]] = counts.get(v["status"], 0) + 1
+    log.info("claims: %s -> %s", counts, out)
+    return 0
+
+
+def _takes_config(fn) -> bool:
+    import inspect
+
+    return "config" in inspect.signature(fn).parameters
+
+
+def _json_default(o):
+    import numpy as np
+
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
+
+
+def _cmd_report(args) -> int:
+    from thesis.report import render
+
+    config = load_config(args.profile, args.config_file)
+    outdir = Path(args.outdir or Path("reports") / args.profile)
+    if args.figures:
+        render.render_figures(args.figures, args.profile, outdir, config=config,
+                              results_root=Path(args.results))
+    else:
+        render.render_report(args.profile, outdir, config=config,
+                             results_root=Path(args.results))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="thesis", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    def common(sp):
+        sp.add_argument("--profile", default="default", choices=PROFILES,
+                        help="scale profile (config/<profile>.yaml)")
+        sp.add_argument("--config-file", default=None,
+                        help="read this YAML instead of config/<profile>.yaml")
+        sp.add_argument("--set", action="append", metavar="KEY=VALUE",
+                        help="override a config value, e.g. --set ch2.epochs=3")
+
+    r = sub.add_parser("run", help="run one experiment and write its result")
+    r.add_argument("key", help="registry key, e.g. ch2/table2_2")
+    common(r)
+    r.add_argument("--input", action="append", metavar="NAME=PATH", help="named input file")
+    r.add_argument("--output", default=None, help="result path (default results/<profile>/...)")
+    r.set_defaults(func=_cmd_run)
+
+    b = sub.add_parser("bench", help="run a benchmark (physics, chirpz, ...)")
+    b.add_argument("name")
+    common(b)
+    b.add_argument("--output", default=None)
+    b.set_defaults(func=_cmd_bench)
+
+    c = sub.add_parser("check", help="decide every claim from a profile's results")
+    common(c)
+    c.add_argument("--results", default=str(store.RESULTS_DIR), help="results root")
+    c.add_argument("--output", default=None, help="default results/<profile>/claims.json")
+    c.set_defaults(func=_cmd_check)
+
+    rep = sub.add_parser("report", help="render reports/<profile>/index.html")
+    common(rep)
+    rep.add_argument("--results", default=str(store.RESULTS_DIR), help="results root")
+    rep.add_argument("--outdir", default=None, help="default reports/<profile>")
+    rep.add_argument("--figures", default=None, metavar="CHAPTER",
+                     help="only render this chapter's figures (e.g. ch3)")
+    rep.set_defaults(func=_cmd_report)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(level=logging.DEBUG if args.verbose else logging.INFO,
+                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    try:
+        return args.func(args)
+    except (ConfigError, KeyError) as e:
+        print(f"thesis: {e.args[0] if isinstance(e, KeyError) else e}", file=sys.stderr)
+        return 2
+    except SimulationDiverged as e:
+        print(f"thesis: {e}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

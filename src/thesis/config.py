@@ -1,0 +1,143 @@
+"""Profile configurations: load ``config/<profile>.yaml``, validate, fill defaults.
+
+The same ``config/schema.yaml`` is used by Snakemake (``validate`` in the Snakefile) and
+by Python (:func:`load_config`), so a run started either way sees the same values.
+Errors name the offending key and what the schema allows, before anything runs.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+from thesis.errors import ConfigError
+
+PROFILES = ("smoke", "default", "paper")
+
+
+def repo_root() -> Path:
+    """The repository root (the directory holding ``config/`` and ``Snakefile``)."""
+    here = Path(__file__).resolve()
+    for parent in here.parents:
+        if (parent / "config" / "schema.yaml").exists():
+            return parent
+    return Path.cwd()
+
+
+def schema_path() -> Path:
+    return repo_root() / "config" / "schema.yaml"
+
+
+def load_schema() -> dict:
+    with open(schema_path()) as f:
+        return yaml.safe_load(f)
+
+
+def _path_of(error: jsonschema.ValidationError) -> str:
+    parts = [str(p) for p in error.absolute_path]
+    return ".".join(parts) if parts else "<top level>"
+
+
+def _describe(error: jsonschema.ValidationError) -> str:
+    where = _path_of(error)
+    schema = error.schema if isinstance(error.schema, dict) else {}
+    if error.validator == "additionalProperties":
+        allowed = sorted(schema.get("properties", {}))
+        extra = sorted(set(error.instance) - set(allowed)) if isinstance(error.instance, dict) else []
+        prefix = "" if where == "<top level>" else where + "."
+        keys = ", ".join(prefix + k for k in extra)
+        return f"unknown config key {keys!s}; allowed keys here: {', '.join(allowed)}"
+    if error.validator == "enum":
+        return (f"config key {where!r} = {error.instance!r} is not allowed; "
+                f"allowed values: {', '.join(map(repr, error.validator_value))}")
+    if error.validator == "type":
+        return (f"config key {where!r} = {error.instance!r} has the wrong type; "
+                f"expected {error.validator_value}")
+    if error.validator in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
+        return (f"config key {where!r} = {error.instance!r} violates "
+                f"{error.validator} {error.validator_value}")
+    if error.validator == "required":
+        return f"config section {where!r}: {error.message}"
+    return f"config key {where!r}: {error.message}"
+
+
+def _fill_defaults(instance: Any, schema: dict) -> Any:
+    """Recursively insert ``default`` values of object properties that are absent."""
+    if not isinstance(schema, dict):
+        return instance
+    if schema.get("type") == "object" and isinstance(instance, dict):
+        for name, sub in schema.get("properties", {}).items():
+            if name not in instance and isinstance(sub, dict) and "default" in sub:
+                instance[name] = copy.deepcopy(sub["default"])
+            if name in instance:
+                instance[name] = _fill_defaults(instance[name], sub)
+    if schema.get("type") == "array" and isinstance(instance, list) and "items" in schema:
+        instance = [_fill_defaults(x, schema["items"]) for x in instance]
+    return instance
+
+
+def validate_config(config: dict, schema: dict | None = None) -> dict:
+    """Validate ``config`` against the schema and return a default-filled deep copy.
+
+    Raises:
+        ConfigError: listing every violation, each naming the key and what is allowed.
+    """
+    schema = load_schema() if schema is None else schema
+    filled = _fill_defaults(copy.deepcopy(config), schema)
+    validator = jsonschema.Draft202012Validator(schema)
+    errors = sorted(validator.iter_errors(filled), key=lambda e: list(map(str, e.absolute_path)))
+    if errors:
+        msg = "\n".join("  - " + _describe(e) for e in errors)
+        raise ConfigError(f"invalid configuration:\n{msg}")
+    return filled
+
+
+def load_config(profile: str, path: str | Path | None = None,
+                overrides: dict | None = None) -> dict:
+    """Load, merge overrides into, validate and default-fill a profile's configuration.
+
+    Args:
+        profile: one of :data:`PROFILES`.
+        path: a YAML file to read instead of ``config/<profile>.yaml``.
+        overrides: nested dict merged over the file's values (like ``--config``).
+    """
+    if path is None and profile not in PROFILES:
+        raise ConfigError(f"unknown profile {profile!r}; allowed values: {', '.join(PROFILES)}")
+    path = Path(path) if path is not None else repo_root() / "config" / f"{profile}.yaml"
+    with open(path) as f:
+        config = yaml.safe_load(f) or {}
+    if overrides:
+        config = merge(config, overrides)
+    config.setdefault("profile", profile)
+    if config["profile"] != profile:
+        raise ConfigError(
+            f"config key 'profile' = {config['profile']!r} in {path} does not match the "
+            f"requested profile {profile!r}")
+    return validate_config(config)
+
+
+def merge(base: dict, over: dict) -> dict:
+    """Deep merge ``over`` into a copy of ``base`` (dicts merge, everything else replaces)."""
+    out = copy.deepcopy(base)
+    for k, v in over.items():
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = merge(out[k], v)
+        else:
+            out[k] = copy.deepcopy(v)
+    return out
+
+
+def canonical_json(obj: Any) -> str:
+    """Canonical JSON (sorted keys, no whitespace) used for hashing and attributes."""
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str)
+
+
+def config_sha256(obj: Any) -> str:
+    """SHA-256 of the canonical JSON of a (slice of a) configuration."""
+    return hashlib.sha256(canonical_json(obj).encode()).hexdigest()

@@ -1,0 +1,79 @@
+"""Where a result came from: git state, code version, package versions, host.
+
+Computed in one place so every dataset carries the same attributes (DESIGN.md
+"Results, provenance"). Nothing here imports JAX at module import time.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import platform
+import socket
+import subprocess
+import sys
+from functools import lru_cache
+from importlib import metadata
+from pathlib import Path
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+
+#: Packages whose versions are recorded on every result.
+VERSIONED_PACKAGES = ("jax", "jaxlib", "numpy", "xarray", "scipy", "optax", "h5netcdf",
+                      "scikit-learn", "cma")
+
+
+def _git(*args: str) -> str | None:
+    try:
+        out = subprocess.run(["git", *args], cwd=PACKAGE_DIR, capture_output=True,
+                             text=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    return out.stdout.strip() if out.returncode == 0 else None
+
+
+@lru_cache(maxsize=1)
+def git_commit() -> str:
+    """HEAD commit of the repository, or ``"unknown"`` outside a git checkout."""
+    return _git("rev-parse", "HEAD") or "unknown"
+
+
+@lru_cache(maxsize=1)
+def git_dirty() -> int:
+    """1 if tracked files differ from HEAD or untracked source files exist, else 0."""
+    status = _git("status", "--porcelain", "--untracked-files=normal")
+    if status is None:
+        return 1
+    return int(bool(status.strip()))
+
+
+def package_versions() -> dict[str, str]:
+    """Installed versions of :data:`VERSIONED_PACKAGES` plus python."""
+    out = {"python": platform.python_version()}
+    for name in VERSIONED_PACKAGES:
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = "absent"
+    return out
+
+
+def code_version(*subpackages: str) -> str:
+    """SHA-256 (16 hex digits) over the source files of the given subpackages of ``thesis``.
+
+    With no argument, hashes the whole package. Snakemake passes this through ``params:``
+    so a change of the code a rule runs triggers a rerun (ECOSYSTEM.md §1 "Rerun surprises").
+    """
+    roots = [PACKAGE_DIR / s for s in subpackages] if subpackages else [PACKAGE_DIR]
+    h = hashlib.sha256()
+    for root in roots:
+        files = [root] if root.is_file() else sorted(root.rglob("*.py"))
+        for f in files:
+            if f.exists():
+                h.update(str(f.relative_to(PACKAGE_DIR)).encode())
+                h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def host() -> str:
+    """Host name and CPU architecture."""
+    return f"{socket.gethostname()} ({platform.machine()}, {sys.platform})"

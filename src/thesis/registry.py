@@ -1,0 +1,31 @@
+"""Every experiment of the pipeline: registry key -> ``module:function``.
+
+Keys are ``"<chapter>/<artifact>"`` and name the result file
+``results/<profile>/<chapter>/<artifact>.nc``. Functions take a
+:class:`thesis.runctx.RunContext` and return an ``xarray.Dataset`` (or ``None`` for
+generators of inputs, which write ``ctx.output`` themselves). Modules are imported only
+when their experiment runs, so a chapter's dependencies never slow another chapter.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+
+EXPERIMENTS: dict[str, str] = {
+    # ch2: chirp-Z spatial transformer networks
+    # ch3: Oncilla gaits and turning
+    # ch7: differentiable physics engine
+}
+
+#: ``thesis bench <name>`` -> registry key of the benchmark it runs.
+BENCHMARKS: dict[str, str] = {}
+
+
+def resolve(key: str) -> Callable:
+    """Import and return the experiment function registered under ``key``."""
+    if key not in EXPERIMENTS:
+        known = ", ".join(sorted(EXPERIMENTS)) or "none yet"
+        raise KeyError(f"unknown experiment {key!r}; registered: {known}")
+    module, _, name = EXPERIMENTS[key].partition(":")
+    return getattr(importlib.import_module(module), name)

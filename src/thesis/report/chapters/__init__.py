@@ -1,0 +1,14 @@
+"""One module per chapter: ``tables(results)`` and ``figures(results, outdir)``.
+
+See :mod:`thesis.report.model` for the contract. A chapter without a module here has
+not been built; the report then shows it as "not run".
+"""
+
+CHAPTERS = {
+    "ch2": "Chapter 2 — Spatial chirp-Z transformer networks",
+    "ch3": "Chapter 3 — Trotting and turning gaits of the Oncilla quadruped",
+    "ch4": "Chapter 4 — Transfer learning of gaits with PSO",
+    "ch5": "Chapter 5 — Terrain classification on Puppy II",
+    "ch6": "Chapter 6 — An embodied closed-loop gait",
+    "ch7": "Chapter 7 — A differentiable physics engine",
+}

@@ -1,0 +1,304 @@
+"""Render ``reports/<profile>/``: figures per chapter, then the page and the summary.
+
+- :func:`render_figures` (one Snakemake rule per chapter): calls the chapter module's
+  ``figures(results, outdir)`` and writes ``figures/<ch>/manifest.json``.
+- :func:`render_report`: reads the results, ``claims.json`` and the figure manifests and
+  writes ``index.html`` (self-contained: figures inlined as PNG data URIs),
+  ``summary.md`` and ``tables/<ch>_<table>.html`` (for ``snakemake --report``).
+
+Nothing here computes a result: every number shown is read from a results file or from
+:mod:`thesis.paper`; what is missing is shown as "not run".
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import html
+import importlib
+import json
+from datetime import datetime, timezone
+from pathlib import Path
+
+from thesis import provenance, store
+from thesis.report.chapters import CHAPTERS
+from thesis.report.model import NOT_RUN, Figure, Section, Table
+
+STATUS_COLOURS = {
+    "reproduced": "#1b7837",
+    "not_reproduced": "#b2182b",
+    "inconclusive": "#b8860b",
+    "not_run": "#777777",
+}
+
+CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1200px;
+margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
+h1{font-size:1.6em}h2{border-bottom:2px solid #ddd;padding-bottom:.2em;margin-top:2em}
+table{border-collapse:collapse;margin:1em 0;font-size:.9em}
+th,td{border:1px solid #ccc;padding:.3em .6em;text-align:left;vertical-align:top}
+th{background:#f3f3f3}.note{color:#555;font-size:.85em}
+.status{font-weight:bold;color:#fff;padding:.1em .4em;border-radius:3px;white-space:nowrap}
+figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}
+figcaption{font-size:.9em;color:#444}.notrun{color:#777;font-style:italic}
+footer{margin-top:3em;font-size:.8em;color:#555;border-top:1px solid #ddd}
+nav a{margin-right:1em}
+"""
+
+
+def _chapter_module(ch: str):
+    try:
+        return importlib.import_module(f"thesis.report.chapters.{ch}")
+    except ModuleNotFoundError as e:
+        if e.name == f"thesis.report.chapters.{ch}":
+            return None
+        raise
+
+
+def _chapter_results(results: dict, ch: str) -> dict:
+    return {k: v for k, v in results.items() if k.startswith(ch + "/")}
+
+
+def render_figures(ch: str, profile: str, outdir: Path, *, config: dict | None = None,
+                   results_root: Path = store.RESULTS_DIR) -> list[Figure]:
+    """Render chapter ``ch``'s figures into ``outdir/figures/<ch>/`` and its manifest."""
+    figdir = Path(outdir) / "figures" / ch
+    figdir.mkdir(parents=True, exist_ok=True)
+    results = _chapter_results(store.load_results(profile, results_root), ch)
+    mod = _chapter_module(ch)
+    figs: list[Figure] = []
+    if mod is not None and results:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        dpi = (config or {}).get("report", {}).get("figure_dpi", 110)
+        with plt.rc_context({"savefig.dpi": dpi, "figure.dpi": dpi}):
+            figs = list(mod.figures(results, figdir))
+    manifest = [{"id": f.id, "title": f.title, "thesis_ref": f.thesis_ref,
+                 "path": Path(f.path).name, "note": f.note} for f in figs]
+    with store.atomic_path(figdir / "manifest.json") as tmp:
+        tmp.write_text(json.dumps(manifest, indent=2))
+    return figs
+
+
+def _load_manifest(outdir: Path, ch: str) -> list[Figure]:
+    path = Path(outdir) / "figures" / ch / "manifest.json"
+    if not path.exists():
+        return []
+    out = []
+    for f in json.loads(path.read_text()):
+        png = path.parent / f["path"]
+        if png.exists():
+            out.append(Figure(id=f["id"], title=f["title"], thesis_ref=f["thesis_ref"],
+                              path=png, note=f.get("note", "")))
+    return out
+
+
+def build_sections(results: dict, outdir: Path) -> list[Section]:
+    """One :class:`Section` per chapter, with its tables and rendered figures."""
+    sections = []
+    for ch, title in CHAPTERS.items():
+        mod = _chapter_module(ch)
+        tables = list(mod.tables(_chapter_results(results, ch))) if mod is not None else []
+        sections.append(Section(chapter=ch, title=title, tables=tables,
+                                figures=_load_manifest(outdir, ch)))
+    return sections
+
+
+def _table_html(t: Table) -> str:
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in t.columns)
+    body = []
+    for row in t.rows:
+        cells = []
+        for c in row:
+            cls = ' class="notrun"' if c == NOT_RUN else ""
+            cells.append(f"<td{cls}>{html.escape(str(c))}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    note = f'<p class="note">{html.escape(t.note)}</p>' if t.note else ""
+    return (f'<h3 id="{html.escape(t.id)}">{html.escape(t.title)} '
+            f'<small>({html.escape(t.thesis_ref)})</small></h3>'
+            f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>{note}")
+
+
+def _figure_html(f: Figure) -> str:
+    data = base64.b64encode(Path(f.path).read_bytes()).decode()
+    note = f" {html.escape(f.note)}" if f.note else ""
+    return (f'<figure id="{html.escape(f.id)}"><img alt="{html.escape(f.title)}" '
+            f'src="data:image/png;base64,{data}"><figcaption><b>{html.escape(f.thesis_ref)}'
+            f"</b> {html.escape(f.title)}.{note}</figcaption></figure>")
+
+
+def _status_html(status: str) -> str:
+    colour = STATUS_COLOURS.get(status, "#777")
+    return (f'<span class="status" style="background:{colour}">'
+            f"{html.escape(status.replace('_', ' '))}</span>")
+
+
+def _kv_text(d) -> str:
+    if not d:
+        return ""
+    if isinstance(d, dict):
+        return "; ".join(f"{k} = {_short(v)}" for k, v in d.items())
+    return str(d)
+
+
+def _short(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    if isinstance(v, dict):
+        return "{" + _kv_text(v) + "}"
+    return str(v)
+
+
+def claims_table(claims: list[dict]) -> Table:
+    """The claims as a :class:`Table` (verdict shown as text)."""
+    rows = []
+    for c in claims:
+        rows.append([c.get("id", ""), c.get("wording", ""), _kv_text(c.get("paper")),
+                     _kv_text(c.get("measured")), c.get("statistic", ""),
+                     c.get("status", ""), c.get("detail", "")])
+    return Table(id="claims", title="Claims of the thesis and their verdicts",
+                 thesis_ref="§2.6, §3.4, §4.8, §5.5, §6.7, §7.5, §8.1",
+                 columns=["claim", "thesis says", "thesis numbers", "measured", "statistic",
+                          "verdict", "detail"], rows=rows)
+
+
+def _claims_html(claims: list[dict], chapter: str | None = None) -> str:
+    sel = [c for c in claims if chapter is None or c.get("chapter") == chapter]
+    if not sel:
+        return ""
+    rows = []
+    for c in sel:
+        rows.append(
+            "<tr>" + "".join([
+                f"<td>{html.escape(c.get('id', ''))}</td>",
+                f"<td>{html.escape(c.get('wording', ''))}</td>",
+                f"<td>{html.escape(_kv_text(c.get('paper')))}</td>",
+                f"<td>{html.escape(_kv_text(c.get('measured')))}</td>",
+                f"<td>{html.escape(c.get('statistic', ''))}</td>",
+                f"<td>{_status_html(c.get('status', 'not_run'))}"
+                f"<br><span class=note>{html.escape(c.get('detail', ''))}</span></td>",
+            ]) + "</tr>")
+    return ("<h3>Claims</h3><table><thead><tr><th>claim</th><th>thesis says</th>"
+            "<th>thesis numbers</th><th>measured</th><th>statistic</th><th>verdict</th>"
+            f"</tr></thead><tbody>{''.join(rows)}</tbody></table>")
+
+
+def wall_times(profile: str, root: Path = Path("benchmarks")) -> list[tuple[str, float]]:
+    """(rule output, seconds) from Snakemake's ``benchmark:`` files of a profile."""
+    out = []
+    base = Path(root) / profile
+    if not base.exists():
+        return out
+    for f in sorted(base.rglob("*.tsv")):
+        with open(f) as fh:
+            rows = list(csv.DictReader(fh, delimiter="\t"))
+        if rows and "s" in rows[0]:
+            secs = [float(r["s"]) for r in rows if r.get("s") not in (None, "", "NA")]
+            if secs:
+                out.append((str(f.relative_to(base).with_suffix("")), sorted(secs)[len(secs) // 2]))
+    return out
+
+
+def _provenance_html(profile: str, results: dict) -> str:
+    versions = provenance.package_versions()
+    commits = sorted({str(ds.attrs.get("git_commit", "?"))[:10]
+                      + ("+dirty" if int(ds.attrs.get("git_dirty", 0)) else "")
+                      for ds in results.values()})
+    rows = [f"<tr><td>{html.escape(k)}</td><td>{html.escape(k2)}</td>"
+            f"<td>{float(ds.attrs.get('wall_seconds', float('nan'))):.1f}</td></tr>"
+            for k, ds in sorted(results.items())
+            for k2 in [str(ds.attrs.get("started", ""))]]
+    bench = "".join(f"<tr><td>{html.escape(n)}</td><td>{s:.1f}</td></tr>"
+                    for n, s in wall_times(profile))
+    now = datetime.now(timezone.utc).isoformat(timespec="seconds")
+    return (
+        "<footer><h2>Provenance</h2>"
+        f"<p>Profile <b>{html.escape(profile)}</b>; rendered {now}; report code at commit "
+        f"{html.escape(provenance.git_commit()[:10])}"
+        f"{' (dirty)' if provenance.git_dirty() else ''}; results from commit(s) "
+        f"{html.escape(', '.join(commits) or 'none')}.</p>"
+        f"<p>Versions: {html.escape(_kv_text(versions))}. Host: {html.escape(provenance.host())}.</p>"
+        "<table><thead><tr><th>result</th><th>started</th><th>compute wall time [s]</th></tr>"
+        f"</thead><tbody>{''.join(rows)}</tbody></table>"
+        + ("<table><thead><tr><th>rule (snakemake benchmark)</th><th>wall time [s]</th></tr>"
+           f"</thead><tbody>{bench}</tbody></table>" if bench else "")
+        + "</footer>")
+
+
+def _page(title: str, body: str) -> str:
+    return (f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8>"
+            f"<title>{html.escape(title)}</title><style>{CSS}</style></head>"
+            f"<body>{body}</body></html>")
+
+
+def _summary_md(profile: str, sections: list[Section], claims: list[dict]) -> str:
+    lines = [f"# Thesis reproduction — profile `{profile}`", ""]
+    counts: dict[str, int] = {}
+    for c in claims:
+        counts[c.get("status", "?")] = counts.get(c.get("status", "?"), 0) + 1
+    lines += ["Claims: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in sorted(counts.items())), ""]
+    for s in sections:
+        lines += [f"## {s.title}", ""]
+        if not s.tables and not s.figures:
+            lines += [f"_{NOT_RUN}_", ""]
+        for t in s.tables:
+            lines += [f"### {t.title} ({t.thesis_ref})", "",
+                      "| " + " | ".join(t.columns) + " |",
+                      "|" + "---|" * len(t.columns)]
+            lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t.rows]
+            lines += [""] + ([t.note, ""] if t.note else [])
+        for c in claims:
+            if c.get("chapter") == s.chapter:
+                lines.append(f"- **{c.get('status', '').replace('_', ' ')}** "
+                             f"`{c.get('id')}`: {c.get('detail', '')}")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def render_report(profile: str, outdir: Path, *, config: dict | None = None,
+                  results_root: Path = store.RESULTS_DIR) -> Path:
+    """Write ``index.html``, ``summary.md`` and ``tables/*.html`` under ``outdir``."""
+    outdir = Path(outdir)
+    results = store.load_results(profile, results_root)
+    claims_path = Path(results_root) / profile / "claims.json"
+    claims = json.loads(claims_path.read_text())["claims"] if claims_path.exists() else []
+    sections = build_sections(results, outdir)
+
+    nav = "".join(f'<a href="#{s.chapter}">{s.chapter}</a>' for s in sections)
+    counts: dict[str, int] = {}
+    for c in claims:
+        counts[c.get("status", "?")] = counts.get(c.get("status", "?"), 0) + 1
+    verdicts = " ".join(f"{_status_html(k)} {v}" for k, v in sorted(counts.items()))
+    body = [f"<h1>Incorporating Prior Knowledge into Deep Neural Network Controllers of "
+            f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
+            f"<nav>{nav}<a href=#claims>claims</a><a href=#provenance>provenance</a></nav>",
+            f"<p>Claims: {verdicts or 'none evaluated'}</p>"]
+    tables_dir = outdir / "tables"
+    tables_dir.mkdir(parents=True, exist_ok=True)
+    for s in sections:
+        body.append(f'<h2 id="{s.chapter}">{html.escape(s.title)}</h2>')
+        if not s.tables and not s.figures:
+            body.append(f'<p class="notrun">{NOT_RUN}: this chapter\'s experiments have not '
+                        "been built or produced no result in this profile.</p>")
+        for t in s.tables:
+            frag = _table_html(t)
+            body.append(frag)
+            with store.atomic_path(tables_dir / f"{s.chapter}_{t.id}.html") as tmp:
+                tmp.write_text(_page(t.title, frag))
+        body.extend(_figure_html(f) for f in s.figures)
+        body.append(_claims_html(claims, s.chapter))
+    body.append('<h2 id="claims">All claims</h2>')
+    all_claims = _claims_html(claims) or f'<p class="notrun">{NOT_RUN}</p>'
+    body.append(all_claims)
+    with store.atomic_path(tables_dir / "claims.html") as tmp:
+        tmp.write_text(_page("Claims", all_claims))
+    body.append('<div id="provenance"></div>' + _provenance_html(profile, results))
+    index = outdir / "index.html"
+    with store.atomic_path(index) as tmp:
+        tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
+    with store.atomic_path(outdir / "summary.md") as tmp:
+        tmp.write_text(_summary_md(profile, sections, claims))
+    return index

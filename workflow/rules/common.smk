@@ -1,0 +1,61 @@
+# Lookups shared by every chapter's rules: paths, config slices, code versions.
+# Logic lives in the `thesis` package; this file only names things.
+import json
+
+from thesis.config import validate_config
+from thesis.cli import config_slice
+from thesis.provenance import code_version
+
+# A clear error naming the key and the allowed values, before any job runs.
+config.update(validate_config(config))
+
+PROFILE = config["profile"]
+CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7"]
+
+# Filled by each chapter's .smk: result files of its target, figures and tables it reports.
+CHAPTER_TARGETS = {ch: [] for ch in CHAPTERS}
+FIGURES = {ch: [] for ch in CHAPTERS}
+TABLES = {ch: [] for ch in CHAPTERS}
+
+# Code each chapter runs; its hash goes into params so code changes trigger reruns.
+CORE_CODE = ["store.py", "cli.py", "config.py", "runctx.py", "seeding.py", "jaxsetup.py"]
+CHAPTER_CODE = {
+    "ch2": ["chirpz"],
+    "ch3": ["gaits", "optim", "physics"],
+    "ch4": ["gaits", "optim", "physics"],
+    "ch5": ["terrain", "physics"],
+    "ch6": ["embodied", "gaits", "physics"],
+    "ch7": ["diffphys", "physics", "optim"],
+}
+
+
+def result(ch, name):
+    """results/<profile>/<chapter>/<artifact>.nc"""
+    return f"results/{PROFILE}/{ch}/{name}.nc"
+
+
+def data_path(*parts):
+    """data/synthetic/... (generated inputs, git-ignored)"""
+    return "data/synthetic/" + "/".join(parts)
+
+
+def log_path(ch, name):
+    return f"logs/{PROFILE}/{ch}/{name}.log"
+
+
+def bench_path(ch, name):
+    return f"benchmarks/{PROFILE}/{ch}/{name}.tsv"
+
+
+def figure_path(ch, name):
+    return f"reports/{PROFILE}/figures/{ch}/{name}.png"
+
+
+def cfg_slice(ch):
+    """Canonical JSON of what a chapter's results depend on (params: reruns on change)."""
+    return json.dumps(config_slice(config, ch), sort_keys=True)
+
+
+def code_of(ch):
+    """Hash of the thesis subpackages a chapter runs (params: reruns on code change)."""
+    return code_version(*CORE_CODE, *CHAPTER_CODE[ch])
