@@ -1,0 +1,52 @@
+# Entry points. `make all` runs the main job (default profile, ends in
+# reports/default/index.html); `make test` runs the tests. Both install what they need.
+SHELL := /bin/bash
+PROFILE ?= default
+UV := $(shell command -v uv 2>/dev/null || echo $(HOME)/.local/bin/uv)
+SNAKEMAKE := $(UV) run --locked snakemake
+export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
+
+.PHONY: all smoke paper test test-fast env uv chromium update-reference report lint clean-smoke
+
+all: env
+	$(SNAKEMAKE) --config profile=$(PROFILE)
+	@echo "report: reports/$(PROFILE)/index.html"
+
+smoke:
+	$(MAKE) all PROFILE=smoke
+
+paper:
+	$(MAKE) all PROFILE=paper
+
+# The whole test suite, including the smoke pipeline end to end, its regression against
+# tests/regression/smoke and the headless-browser check of its report.
+test: env chromium
+	$(UV) run --locked pytest
+
+# Everything but the smoke pipeline (quick feedback while developing).
+test-fast: env
+	$(UV) run --locked pytest -m "not pipeline and not browser"
+
+# Rewrite the smoke references on purpose (prints what changed).
+update-reference: env
+	$(SNAKEMAKE) --config profile=smoke
+	$(UV) run --locked python -m thesis.regression update smoke tests/regression/smoke
+
+lint: env
+	$(SNAKEMAKE) --lint --config profile=smoke
+	for p in smoke default paper; do $(SNAKEMAKE) -n -q --config profile=$$p || exit 1; done
+
+uv:
+	@command -v uv >/dev/null 2>&1 || test -x $(HOME)/.local/bin/uv || python3 -m pip install --user --quiet uv
+
+env: uv
+	$(UV) sync --locked
+
+# Debian's chromium for the browser test (needs root; skipped when already present).
+chromium:
+	@command -v chromium >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq chromium >/dev/null; \
+	  else echo "install Debian's chromium for the browser test (sudo apt-get install chromium)"; fi; }
+
+clean-smoke:
+	rm -rf results/smoke reports/smoke logs/smoke benchmarks/smoke data/synthetic/*/smoke.*

@@ -1,0 +1,85 @@
+"""The CLI runs a registered experiment, stamps provenance, and refuses to write NaN runs."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from thesis import cli, registry, store
+
+FAKE = textwrap.dedent('''
+    import numpy as np
+    import xarray as xr
+    from thesis.errors import SimulationDiverged
+
+    def good(ctx):
+        seeds = [0, 1]
+        v = xr.DataArray(np.array([1.0, 2.0]) * ctx.root_seed, dims="seed",
+                         coords={"seed": seeds},
+                         attrs={"units": "m", "long_name": "distance"})
+        return xr.Dataset({"distance": v}, attrs={"thesis_ref": "Tab. 0.0", "seeds": seeds})
+
+    def diverges(ctx):
+        raise SimulationDiverged(ctx.key, seed=1, step=42, what="body_pos")
+
+    def generator(ctx):
+        from thesis.store import atomic_path
+        with atomic_path(ctx.output) as tmp:
+            tmp.write_text("data")
+''')
+
+
+@pytest.fixture
+def fake_registry(tmp_path, monkeypatch):
+    (tmp_path / "fake_experiments.py").write_text(FAKE)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setitem(registry.EXPERIMENTS, "ch9/good", "fake_experiments:good")
+    monkeypatch.setitem(registry.EXPERIMENTS, "ch9/diverges", "fake_experiments:diverges")
+    monkeypatch.setitem(registry.EXPERIMENTS, "ch9/gen", "fake_experiments:generator")
+    monkeypatch.setitem(registry.BENCHMARKS, "fake", "ch9/good")
+    monkeypatch.setenv("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
+    return tmp_path
+
+
+def test_run_writes_result_with_provenance(fake_registry, tmp_path):
+    out = tmp_path / "out" / "good.nc"
+    rc = cli.main(["run", "ch9/good", "--profile", "smoke", "--output", str(out),
+                   "--set", "root_seed=3"])
+    assert rc == 0
+    ds = store.read_dataset(out)
+    assert ds["distance"].values.tolist() == [3.0, 6.0]
+    assert ds.attrs["experiment"] == "ch9/good"
+    assert ds.attrs["profile"] == "smoke"
+    assert '"root_seed":3' in ds.attrs["config_json"]
+
+
+def test_bench_dispatches_to_registered_benchmark(fake_registry, tmp_path):
+    out = tmp_path / "b.nc"
+    assert cli.main(["bench", "fake", "--profile", "smoke", "--output", str(out)]) == 0
+    assert store.read_dataset(out).attrs["experiment"] == "ch9/good"
+
+
+def test_nan_run_exits_nonzero_names_seed_and_step_and_writes_nothing(
+        fake_registry, tmp_path, capsys):
+    out = tmp_path / "bad.nc"
+    rc = cli.main(["run", "ch9/diverges", "--profile", "smoke", "--output", str(out)])
+    assert rc == 3
+    err = capsys.readouterr().err
+    assert "ch9/diverges" in err and "seed=1" in err and "step=42" in err
+    assert not out.exists()
+
+
+def test_generator_writes_its_output(fake_registry, tmp_path):
+    out = tmp_path / "d" / "x.h5"
+    assert cli.main(["run", "ch9/gen", "--profile", "smoke", "--output", str(out)]) == 0
+    assert out.read_text() == "data"
+
+
+def test_unknown_experiment_and_bad_config_are_clear(fake_registry, tmp_path, capsys):
+    assert cli.main(["run", "ch9/nope", "--profile", "smoke"]) == 2
+    assert "unknown experiment 'ch9/nope'" in capsys.readouterr().err
+    assert cli.main(["run", "ch9/good", "--profile", "smoke", "--output",
+                     str(tmp_path / "x.nc"), "--set", "ch2.bogus=1"]) == 2
+    assert "ch2.bogus" in capsys.readouterr().err
+    assert not (tmp_path / "x.nc").exists()

@@ -1,0 +1,76 @@
+"""Profiles validate against config/schema.yaml; errors name the key and what is allowed."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from thesis.config import PROFILES, load_config, load_schema, validate_config
+from thesis.errors import ConfigError
+
+
+@pytest.mark.parametrize("profile", PROFILES)
+def test_every_profile_validates(profile):
+    cfg = load_config(profile)
+    assert cfg["profile"] == profile
+    assert cfg["jax"]["host_devices"] >= 1
+
+
+def _walk(schema, path="<root>"):
+    yield path, schema
+    for k, sub in schema.get("properties", {}).items():
+        yield from _walk(sub, f"{path}.{k}")
+
+
+def test_every_key_has_description_and_default():
+    schema = load_schema()
+    missing = [p for p, s in _walk(schema) if p != "<root>"
+               and ("description" not in s or "default" not in s)]
+    assert missing == []
+
+
+def test_every_object_forbids_unknown_keys():
+    schema = load_schema()
+    open_objects = [p for p, s in _walk(schema)
+                    if s.get("type") == "object" and s.get("additionalProperties") is not False]
+    assert open_objects == []
+
+
+def test_unknown_key_is_named_with_allowed_keys():
+    with pytest.raises(ConfigError) as e:
+        validate_config({"profile": "smoke", "ch3": {"no_such_key": 1}})
+    assert "ch3.no_such_key" in str(e.value)
+    assert "allowed keys" in str(e.value)
+
+
+def test_bad_enum_value_lists_allowed_values():
+    with pytest.raises(ConfigError) as e:
+        validate_config({"profile": "huge"})
+    assert "'profile'" in str(e.value) and "smoke" in str(e.value) and "paper" in str(e.value)
+
+
+def test_wrong_type_is_named():
+    with pytest.raises(ConfigError, match="jax.host_devices"):
+        validate_config({"profile": "smoke", "jax": {"host_devices": "two"}})
+
+
+def test_defaults_are_filled():
+    cfg = validate_config({"profile": "smoke"})
+    assert cfg["root_seed"] == load_schema()["properties"]["root_seed"]["default"]
+    assert "enable_x64" in cfg["jax"]
+
+
+def test_unknown_profile_and_mismatch(tmp_path):
+    with pytest.raises(ConfigError, match="allowed values"):
+        load_config("huge")
+    f = tmp_path / "c.yaml"
+    f.write_text(yaml.safe_dump({"profile": "paper"}))
+    with pytest.raises(ConfigError, match="does not match"):
+        load_config("smoke", f)
+
+
+def test_overrides_merge_and_validate():
+    cfg = load_config("smoke", overrides={"root_seed": 7})
+    assert cfg["root_seed"] == 7
+    with pytest.raises(ConfigError, match="root_seed"):
+        load_config("smoke", overrides={"root_seed": -1})

@@ -1,0 +1,64 @@
+"""Regression references: tolerances per variable, machine-dependent values skipped."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+
+from thesis import regression
+
+
+def _ds(err=(0.1, 0.2), secs=(1.0, 2.0)):
+    return xr.Dataset(
+        {"test_error": xr.DataArray(np.array(err), dims="seed",
+                                    attrs={"units": "1", "long_name": "error"}),
+         "wall_seconds": xr.DataArray(np.array(secs), dims="seed",
+                                      attrs={"units": "s", "long_name": "time"})},
+        coords={"seed": [0, 1]}, attrs={"thesis_ref": "Tab. 2.2"})
+
+
+def test_identical_result_matches_its_reference():
+    ref = json.loads(json.dumps(regression.to_reference(_ds())))
+    assert regression.compare(_ds(), ref) == []
+
+
+def test_value_change_beyond_tolerance_is_reported():
+    ref = regression.to_reference(_ds())
+    problems = regression.compare(_ds(err=(0.1, 0.25)), ref)
+    assert len(problems) == 1 and "test_error" in problems[0]
+
+
+def test_change_within_tolerance_passes():
+    ref = regression.to_reference(_ds())
+    assert regression.compare(_ds(err=(0.1, 0.2 * (1 + 1e-5))), ref) == []
+
+
+def test_wall_time_is_recorded_but_not_compared():
+    ref = regression.to_reference(_ds())
+    assert ref["variables"]["wall_seconds"]["compare"] is False
+    assert regression.compare(_ds(secs=(50.0, 60.0)), ref) == []
+
+
+def test_missing_and_new_variables_and_shape_changes_are_reported():
+    ref = regression.to_reference(_ds())
+    ds = _ds().rename({"test_error": "error"})
+    problems = regression.compare(ds, ref)
+    assert any("'test_error' missing" in p for p in problems)
+    assert any("'error' is new" in p for p in problems)
+
+
+def test_per_variable_override():
+    ds = _ds()
+    ds["test_error"].attrs["regression_rtol"] = 0.5
+    ref = regression.to_reference(ds)
+    assert regression.compare(_ds(err=(0.1, 0.25)), ref) == []
+
+
+def test_write_references_reports_changes(tmp_path):
+    assert regression.write_references({"ch2/table2_2": _ds()}, tmp_path) == [
+        "ch2/table2_2: new reference"]
+    lines = regression.write_references({"ch2/table2_2": _ds(err=(0.3, 0.2))}, tmp_path)
+    assert any("test_error" in line for line in lines)
+    assert (tmp_path / "ch2" / "table2_2.json").exists()
