@@ -1,0 +1,45 @@
+"""The shared differentiable rigid-body engine (thesis chapter 7, §7.2; DESIGN "The physics engine").
+
+Public API (engine_api.md); everything not re-exported here is private:
+
+* ``Builder`` -> ``build(dtype) -> (Model, State)``; ``Model``/``State`` pytrees and the
+  enums ``JointType``, ``DofKind``, ``ServoKind``, ``GeomType``;
+* ``step(model, state, action) -> State``;
+* ``sensors(model, state) -> dict``;
+* ``rollout`` / ``batched_rollout`` / ``decay_gradient`` (BPTT through closed loops);
+* ``render`` (differentiable camera, ``camera.py``);
+* ``box_inertia``, ``sphere_inertia``, ``orthonormalize`` (eq. 7.1), ``safe_norm``.
+
+Module map: ``types`` (Model, State, enums), ``math``, ``builder`` + ``tables`` (host ->
+device), ``kinematics`` (joint frames, coordinates, rows), ``collision``, ``constraint``
+(row assembly, softness), ``solver`` (projected block Jacobi), ``integrator``
+(semi-implicit Euler + eq. 7.1), ``sensors``, ``step``, ``rollout``, ``camera``.
+"""
+
+from thesis.physics.builder import Builder as Builder
+from thesis.physics.builder import box_inertia as box_inertia
+from thesis.physics.builder import sphere_inertia as sphere_inertia
+from thesis.physics.math import orthonormalize as orthonormalize
+from thesis.physics.math import safe_norm as safe_norm
+from thesis.physics.rollout import batched_rollout as batched_rollout
+from thesis.physics.rollout import decay_gradient as decay_gradient
+from thesis.physics.rollout import rollout as rollout
+from thesis.physics.sensors import sensors as sensors
+from thesis.physics.step import step as step
+from thesis.physics.types import DofKind as DofKind
+from thesis.physics.types import GeomType as GeomType
+from thesis.physics.types import JointType as JointType
+from thesis.physics.types import Model as Model
+from thesis.physics.types import ServoKind as ServoKind
+from thesis.physics.types import State as State
+
+try:  # written by the camera helper against engine_api.md
+    from thesis.physics.camera import render as render
+except ImportError:  # pragma: no cover - camera not present yet
+    pass
+
+__all__ = [
+    "Builder", "Model", "State", "JointType", "DofKind", "ServoKind", "GeomType",
+    "step", "sensors", "rollout", "batched_rollout", "decay_gradient", "render",
+    "box_inertia", "sphere_inertia", "orthonormalize", "safe_norm",
+]

@@ -1,0 +1,356 @@
+"""Model builder: the only host-to-device boundary of the engine (thesis §7.2, FACTS §2.2-2.3).
+
+A robot file declares bodies, joints, servos, springs, materials, planes, contact spheres
+and cameras by name, in world coordinates of the initial pose, and ``build()`` turns them
+into a :class:`~thesis.physics.types.Model` (static topology as numpy arrays, physical
+parameters as ``jax.Array``) and the initial :class:`~thesis.physics.types.State`.
+
+Decisions (documented here because the original's JSON format leaves them implicit):
+
+* Inertia: boxes ``m (b^2 + c^2) / 12`` etc.; solid spheres ``0.4 m r^2``. The original's
+  sphere inertia ``0.4 m`` without ``r^2`` (FACTS §2.3 quirk) only with
+  ``inertia="tpx_quirk"``.
+* Softness: every constraint row is a damped spring of natural frequency ``hz`` and
+  damping ratio ``zeta`` (FACTS §2.4 item 3, see ``constraint.py``). Joint and limit
+  defaults are ``hz = 0.25 / dt`` (the stiffest value that stays well resolved by the
+  time step) and ``zeta = 1`` (critical damping), unless given.
+* ``restitution_threshold`` defaults to ``2 |g| dt``: a resting contact gains ``|g| dt`` of
+  approach speed every step, which must not bounce.
+* Anchors and axes are given in world coordinates at the initial pose and stored in the
+  body frames; "world" (or None) as body1 fixes a joint to the world.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import jax.numpy as jnp
+
+from thesis.physics.math import quat_to_rot
+from thesis.physics.types import DofKind, GeomType, JointType, Model, ServoKind, State
+
+__all__ = ["Builder", "box_inertia", "sphere_inertia"]
+
+_ROW_MASK = {
+    JointType.HINGE: (1, 1, 1, 0, 1, 1),
+    JointType.UNIVERSAL: (1, 1, 1, 1, 0, 0),
+    JointType.BALL: (1, 1, 1, 0, 0, 0),
+    JointType.FIXED: (1, 1, 1, 1, 1, 1),
+    JointType.SLIDER: (0, 1, 1, 1, 1, 1),
+}
+
+
+def box_inertia(mass, size):
+    """(3, 3) inertia of a solid box of full edge lengths ``size`` about its centre [kg m^2]."""
+    a, b, c = size
+    return mass / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+
+
+def sphere_inertia(mass, radius, kind="solid"):
+    """(3, 3) inertia of a sphere: ``"solid"`` 0.4 m r^2, ``"tpx_quirk"`` 0.4 m (FACTS §2.3)."""
+    if kind == "solid":
+        return 0.4 * mass * radius ** 2 * np.eye(3)
+    if kind == "tpx_quirk":
+        return 0.4 * mass * np.eye(3)
+    raise ValueError(f"unknown sphere inertia kind {kind!r}")
+
+
+def _rot(rot):
+    if rot is None:
+        return np.eye(3)
+    r = np.asarray(rot, dtype=np.float64)
+    return quat_to_rot(r) if r.shape == (4,) else r
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=np.float64)
+    return v / np.linalg.norm(v)
+
+
+def _perp(a):
+    t = np.array([1.0, 0, 0]) if abs(a[0]) < 0.9 else np.array([0, 1.0, 0])
+    return _unit(t - a * (a @ t))
+
+
+class Builder:
+    """Declarative model construction by name (engine_api.md).
+
+    Args:
+        name: model name.
+        dt: time step [s]. solver_iterations: PGS sweeps per step. gravity: (3,) [m/s^2].
+        warm_start: fraction of the previous impulses used as the initial guess (FACTS §2.4).
+        relaxation: Jacobi relaxation factor of the solver (see ``solver.py``).
+        joint_hz, joint_zeta: default joint softness (None: 0.25/dt Hz, ratio 1).
+        limit_hz, limit_zeta: default joint-limit softness (same defaults).
+        reortho_iterations: eq. 7.1 steps per time step.
+        restitution_threshold: [m/s] (None: 2 |g| dt). contact_slop: [m] penetration
+            left uncorrected (the original's ground ``delta``, FACTS §2.6).
+        friction, restitution, contact_hz, contact_zeta: the "default" material.
+    """
+
+    def __init__(self, name, *, dt=0.01, solver_iterations=20, gravity=(0.0, 0.0, -9.81),
+                 warm_start=0.85, relaxation=1.0, joint_hz=None, joint_zeta=1.0,
+                 limit_hz=None, limit_zeta=1.0, reortho_iterations=1,
+                 restitution_threshold=None, contact_slop=0.0, friction=0.5,
+                 restitution=0.0, contact_hz=None, contact_zeta=1.0):
+        self.name = name
+        self.dt = float(dt)
+        self.solver_iterations = int(solver_iterations)
+        self.gravity = np.asarray(gravity, dtype=np.float64)
+        self.warm_start = float(warm_start)
+        self.relaxation = float(relaxation)
+        self.joint_hz = 0.25 / self.dt if joint_hz is None else float(joint_hz)
+        self.joint_zeta = float(joint_zeta)
+        self.limit_hz = 0.25 / self.dt if limit_hz is None else float(limit_hz)
+        self.limit_zeta = float(limit_zeta)
+        self.reortho_iterations = int(reortho_iterations)
+        g = float(np.linalg.norm(self.gravity))
+        self.restitution_threshold = (2.0 * g * self.dt if restitution_threshold is None
+                                      else float(restitution_threshold))
+        self.contact_slop = float(contact_slop)
+        self.bodies, self.joints, self.servos, self.springs, self.jsprings = [], [], [], [], []
+        self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
+        self.geoms, self.cameras, self.textures = [], [], []
+        self.add_material("default", friction, restitution,
+                          0.25 / self.dt if contact_hz is None else contact_hz, contact_zeta)
+
+    # ---- lookup ---------------------------------------------------------------------
+    def _body(self, name):
+        if name is None or name == "world":
+            return -1
+        for i, b in enumerate(self.bodies):
+            if b["name"] == name:
+                return i
+        raise KeyError(f"no body {name!r}")
+
+    def _pose(self, i):
+        if i < 0:
+            return np.zeros(3), np.eye(3)
+        return self.bodies[i]["pos"], self.bodies[i]["rot"]
+
+    def _joint(self, name):
+        for i, j in enumerate(self.joints):
+            if j["name"] == name:
+                return i
+        raise KeyError(f"no joint {name!r}")
+
+    def _material(self, name):
+        if name is None:
+            return None
+        return [m["name"] for m in self.materials].index(name)
+
+    def _texture(self, name):
+        if name is None:
+            return -1
+        return [t["name"] for t in self.textures].index(name)
+
+    # ---- bodies ---------------------------------------------------------------------
+    def _add_body(self, name, pos, rot, mass, inertia, vel=(0, 0, 0), angvel=(0, 0, 0)):
+        if any(b["name"] == name for b in self.bodies):
+            raise ValueError(f"duplicate body {name!r}")
+        self.bodies.append(dict(name=name, pos=np.asarray(pos, np.float64), rot=_rot(rot),
+                                mass=float(mass), inertia=np.asarray(inertia, np.float64),
+                                vel=np.asarray(vel, np.float64),
+                                angvel=np.asarray(angvel, np.float64)))
+        return name
+
+    def add_box(self, name, size, pos, rot=None, mass=None, density=1000.0,
+                color=(0.8, 0.8, 0.8), texture=None, visible=True):
+        """Add a solid box body of full edge lengths ``size`` [m] at ``pos`` (its centre).
+
+        Mass is ``density * volume`` [kg/m^3] unless ``mass`` [kg] is given (FACTS §2.3).
+        ``rot`` is a 3x3 matrix or a quaternion [w, x, y, z]. Returns ``name``.
+        """
+        size = np.asarray(size, np.float64)
+        m = density * float(np.prod(size)) if mass is None else float(mass)
+        self._add_body(name, pos, rot, m, box_inertia(m, size))
+        if visible:
+            self.geoms.append(dict(type=GeomType.BOX, body=len(self.bodies) - 1,
+                                   size=size / 2, pos=np.zeros(3), rot=np.eye(3),
+                                   color=color, texture=texture))
+        return name
+
+    def add_sphere(self, name, radius, pos, rot=None, mass=None, density=1000.0,
+                   color=(0.8, 0.8, 0.8), texture=None, inertia="solid", visible=True):
+        """Add a solid sphere body of ``radius`` [m]; ``inertia="tpx_quirk"`` reproduces the
+        original's 0.4 m (FACTS §2.3). Returns ``name``."""
+        m = density * 4.0 / 3.0 * np.pi * radius ** 3 if mass is None else float(mass)
+        self._add_body(name, pos, rot, m, sphere_inertia(m, radius, inertia))
+        if visible:
+            self.geoms.append(dict(type=GeomType.SPHERE, body=len(self.bodies) - 1,
+                                   size=np.array([radius, 0, 0]), pos=np.zeros(3),
+                                   rot=np.eye(3), color=color, texture=texture))
+        return name
+
+    def set_velocity(self, body, vel=(0, 0, 0), angvel=(0, 0, 0)):
+        """Initial world linear [m/s] and angular [rad/s] velocity of a body."""
+        b = self.bodies[self._body(body)]
+        b["vel"], b["angvel"] = np.asarray(vel, np.float64), np.asarray(angvel, np.float64)
+
+    # ---- joints ---------------------------------------------------------------------
+    def _add_joint(self, name, jtype, body1, body2, anchor, axis1, axis2, limits, hz, zeta):
+        i1, i2 = self._body(body1), self._body(body2)
+        p1, r1 = self._pose(i1)
+        p2, r2 = self._pose(i2)
+        e1 = _unit(axis1)
+        e2 = _perp(e1) if axis2 is None else _unit(np.asarray(axis2) - e1 * (e1 @ _unit(axis2)))
+        frame = np.stack([e1, e2, np.cross(e1, e2)], axis=1)
+        anchor = np.asarray(p2 if anchor is None else anchor, np.float64)
+        width = JointType(jtype).dof_width()
+        if limits is not None:
+            limits = np.asarray(limits, np.float64).reshape(-1, 2)
+            if limits.shape[0] not in (1, width):
+                raise ValueError(f"joint {name!r}: need 1 or {width} (lo, hi) limits")
+            limits = np.broadcast_to(limits, (width, 2))
+        self.joints.append(dict(
+            name=name, type=JointType(jtype), b1=i1, b2=i2,
+            anchor1=r1.T @ (anchor - p1), anchor2=r2.T @ (anchor - p2),
+            frame1=r1.T @ frame, frame2=r2.T @ frame, rel=r1.T @ r2, limits=limits,
+            hz=self.joint_hz if hz is None else float(hz),
+            zeta=self.joint_zeta if zeta is None else float(zeta)))
+        return name
+
+    def add_hinge(self, name, body1, body2, anchor, axis, limits=None, hz=None, zeta=None):
+        """Hinge about world ``axis`` through world point ``anchor``; limits (lo, hi) [rad].
+        The angle is the rotation of body2 relative to body1 about the axis, 0 at build."""
+        return self._add_joint(name, JointType.HINGE, body1, body2, anchor, axis, None,
+                               limits, hz, zeta)
+
+    def add_universal(self, name, body1, body2, anchor, axis1, axis2, limits=None,
+                      hz=None, zeta=None):
+        """Universal joint: ``axis1`` fixed in body1, ``axis2`` (made orthogonal) fixed in
+        body2; coordinates (angle about axis1, angle about axis2) [rad]."""
+        return self._add_joint(name, JointType.UNIVERSAL, body1, body2, anchor, axis1,
+                               axis2, limits, hz, zeta)
+
+    def add_ball(self, name, body1, body2, anchor, hz=None, zeta=None):
+        """Ball-and-socket joint; coordinates are the rotation vector of body2 relative to
+        body1 in body1's frame [rad]."""
+        return self._add_joint(name, JointType.BALL, body1, body2, anchor, (1, 0, 0),
+                               (0, 1, 0), None, hz, zeta)
+
+    def add_fixed(self, name, body1, body2, anchor=None, hz=None, zeta=None):
+        """Weld body2 to body1 in their relative pose at build time."""
+        return self._add_joint(name, JointType.FIXED, body1, body2, anchor, (1, 0, 0),
+                               (0, 1, 0), None, hz, zeta)
+
+    def add_slider(self, name, body1, body2, axis, limits=None, hz=None, zeta=None):
+        """Prismatic joint along world ``axis``; coordinate = displacement of body2's CoM
+        along the axis (fixed in body1) since build [m]; limits (lo, hi) [m]."""
+        return self._add_joint(name, JointType.SLIDER, body1, body2, None, axis, None,
+                               limits, hz, zeta)
+
+    # ---- actuators and springs ------------------------------------------------------
+    def add_position_servo(self, joint, gain, max_torque, max_velocity, deadband=0.0,
+                           axis_index=0, command_range=None, name=None):
+        """Position servo (FACTS §2.7): drives the joint coordinate's rate towards
+        ``-clip(gain * error, +-max_velocity)`` (zero inside ``deadband``) with at most
+        ``max_torque`` [N m, or N for sliders]. ``gain`` [1/s]; commands are clipped to
+        ``command_range`` (default: the joint limits, if any). Returns the servo index."""
+        return self._add_servo(joint, ServoKind.POSITION, gain, max_torque, max_velocity,
+                               deadband, axis_index, command_range, name)
+
+    def add_velocity_servo(self, joint, max_torque, axis_index=0, name=None):
+        """Velocity servo: drives the joint coordinate's rate to the command [rad/s, m/s]
+        with at most ``max_torque``. Returns the servo index."""
+        return self._add_servo(joint, ServoKind.VELOCITY, 0.0, max_torque, np.inf, 0.0,
+                               axis_index, None, name)
+
+    def _add_servo(self, joint, kind, gain, max_torque, max_velocity, deadband, axis_index,
+                   command_range, name):
+        j = self.joints[self._joint(joint)]
+        if command_range is None:
+            command_range = ((-np.inf, np.inf) if j["limits"] is None
+                             else tuple(j["limits"][axis_index]))
+        self.servos.append(dict(joint=joint, axis=int(axis_index), kind=kind, gain=gain,
+                                torque=max_torque, vmax=max_velocity, deadband=deadband,
+                                lo=command_range[0], hi=command_range[1],
+                                name=name or f"{joint}:{axis_index}"))
+        return len(self.servos) - 1
+
+    def add_spring(self, name, body1, body2, anchor1, anchor2, stiffness, damping,
+                   rest_length=None):
+        """Linear spring-damper between world points ``anchor1`` (on body1) and
+        ``anchor2`` (on body2) at build time; stiffness [N/m], damping [N s/m];
+        rest length [m] defaults to the build-time distance. Integrated implicitly."""
+        i1, i2 = self._body(body1), self._body(body2)
+        p1, r1 = self._pose(i1)
+        p2, r2 = self._pose(i2)
+        a1, a2 = np.asarray(anchor1, np.float64), np.asarray(anchor2, np.float64)
+        rest = float(np.linalg.norm(a2 - a1)) if rest_length is None else float(rest_length)
+        self.springs.append(dict(name=name, b1=i1, b2=i2, a1=r1.T @ (a1 - p1),
+                                 a2=r2.T @ (a2 - p2), k=stiffness, c=damping, rest=rest))
+        return name
+
+    def add_joint_spring(self, joint, stiffness, damping, rest_angle=0.0, axis_index=0):
+        """Spring-damper on a joint coordinate: stiffness [N m/rad or N/m], damping
+        [N m s/rad or N s/m], rest coordinate [rad or m]. Integrated implicitly."""
+        self._joint(joint)
+        self.jsprings.append(dict(joint=joint, axis=int(axis_index), k=stiffness,
+                                  c=damping, rest=rest_angle))
+        return len(self.jsprings) - 1
+
+    # ---- contact --------------------------------------------------------------------
+    def add_material(self, name, friction, restitution, stiffness_hz, damping_ratio,
+                     torsional=0.0):
+        """Contact material: Coulomb friction, restitution, softness (natural frequency
+        [Hz], damping ratio) and torsional friction length [m] (torque bound =
+        torsional * normal force). Replaces a material of the same name."""
+        m = dict(name=name, friction=friction, restitution=restitution, hz=stiffness_hz,
+                 zeta=damping_ratio, torsional=torsional)
+        names = [x["name"] for x in self.materials]
+        if name in names:
+            self.materials[names.index(name)] = m
+        else:
+            self.materials.append(m)
+        return name
+
+    def add_plane(self, name, normal, offset, material="default", color=(0.9, 0.9, 0.9),
+                  texture=None, visible=True):
+        """Static infinite plane {x : n.x = offset} (any orientation, for slopes)."""
+        n = _unit(normal)
+        self.planes.append(dict(name=name, normal=n, offset=float(offset),
+                                material=self._material(material)))
+        if visible:
+            t1 = _perp(n)
+            self.geoms.append(dict(type=GeomType.PLANE, body=-1, size=np.zeros(3),
+                                   pos=n * float(offset),
+                                   rot=np.stack([t1, np.cross(n, t1), n], axis=1),
+                                   color=color, texture=texture))
+        return name
+
+    def add_contact_sphere(self, body, radius, offset=(0, 0, 0), material=None):
+        """Collision sphere of ``radius`` [m] at ``offset`` (body frame) on ``body``. It
+        collides with every plane and with spheres listed by ``add_sphere_pair``; its
+        material (if given) overrides the plane's. Returns its index."""
+        self.cspheres.append(dict(body=self._body(body), radius=float(radius),
+                                  offset=np.asarray(offset, np.float64),
+                                  material=self._material(material)))
+        return len(self.cspheres) - 1
+
+    def add_sphere_pair(self, sphere1, sphere2, material="default"):
+        """Let contact spheres ``sphere1`` and ``sphere2`` (indices) collide."""
+        self.sphere_pairs.append((int(sphere1), int(sphere2), self._material(material)))
+
+    # ---- rendering ------------------------------------------------------------------
+    def add_texture(self, name, image):
+        """Register an RGB texture ``image`` (h, w, 3) with values in [0, 1]."""
+        img = np.asarray(image, np.float64)
+        if img.ndim != 3 or img.shape[2] != 3 or img.min() < 0 or img.max() > 1:
+            raise ValueError("texture must be (h, w, 3) in [0, 1]")
+        self.textures.append(dict(name=name, image=img))
+        return name
+
+    def add_camera(self, name, body, pos, rot, focal_length, sensor_size, pixels):
+        """Pinhole camera; ``pos``/``rot`` relative to ``body`` ("world" for a fixed camera);
+        camera frame x right, y down, z forward (FACTS §2.9). Returns ``name``."""
+        self.cameras.append(dict(name=name, body=self._body(body), pos=np.asarray(pos, float),
+                                 rot=_rot(rot), focal=float(focal_length),
+                                 sensor=tuple(sensor_size), pixels=tuple(int(p) for p in pixels)))
+        return name
+
+    # ---- build ----------------------------------------------------------------------
+    def build(self, dtype=jnp.float32):
+        """Compile the declarations into ``(Model, State)`` with float arrays of ``dtype``."""
+        from thesis.physics.tables import build_model  # local: keeps this module short
+
+        return build_model(self, dtype)

@@ -1,0 +1,174 @@
+"""Constraint rows of one time step: joints, servos, limits, springs, contacts.
+
+Every row i asks ``J_i v + bias_i + cfm_i * lambda_i = 0`` for the post-step velocities v
+and its accumulated impulse lambda_i in [lo_i, hi_i] (FACTS §2.4-2.7). The rows come in
+two families with static shapes:
+
+* joint blocks (n_joint, 6): the equality rows of each joint, solved together;
+* scalar rows (n_rows,): ``[servos | limits | joint springs | springs | contact normals |
+  friction t1 | friction t2 | (torsion)]`` in that static order.
+
+Softness (FACTS §2.4 item 3, derived so its units are consistent): a row with natural
+frequency f [Hz] and damping ratio zeta behaves as an implicit spring-damper of stiffness
+``k = m_eff w^2`` and damping ``c = 2 m_eff zeta w`` (w = 2 pi f); with h = dt this gives
+``erp = h k / (h k + c) = hw / (hw + 2 zeta)`` and an impulse-space
+``cfm = 1 / (h (h k + c)) = gamma / m_eff`` with ``gamma = 1 / (hw (hw + 2 zeta))``.
+The original wrote ``CFM = 1/(c + dt k)`` and applied it to impulses, which differs by a
+factor dt (a unit slip, kept out). Springs with explicit k [N/m], c [N s/m] use the same
+expressions without m_eff (``cfm_abs``), i.e. they are integrated implicitly and stay
+stable for any stiffness.
+
+Servos (FACTS §2.7): a hard velocity row along the joint coordinate with target rate
+``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
+or the command for velocity servos, and impulse bounded by ``max_torque * dt``.
+Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
+restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
+friction rows in a pyramid ``|lambda_t| <= mu lambda_n`` and an optional torsional row
+``|lambda_tau| <= torsional * lambda_n``.
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+import numpy as np
+
+from thesis.physics.types import Model, ServoKind
+
+__all__ = ["softness", "scalar_rows"]
+
+INF = float("inf")
+
+
+def softness(hz, zeta, dt):
+    """(erp, gamma) of rows with natural frequency ``hz`` [Hz] and damping ratio ``zeta``."""
+    hw = dt * 2.0 * jnp.pi * hz
+    denom = hw + 2.0 * zeta
+    return hw / denom, 1.0 / (hw * denom)
+
+
+def _spring(k, c, dt):
+    """(erp, cfm_abs) of an implicit spring-damper with stiffness k and damping c."""
+    hk_c = dt * k + c
+    return dt * k / hk_c, 1.0 / (dt * hk_c)
+
+
+def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
+    """Assemble the scalar rows.
+
+    Args:
+        dofs: (q, qdot, ja, jb) from ``kinematics.joint_coordinates``.
+        contacts: dict from ``collision.detect``.
+        spring_geo: (d, length, ra, rb) of the body springs (n_spring, ...).
+        vel6: (n_body + 1, 6) velocities after gravity (for restitution).
+        action: (n_servo,) servo commands.
+    Returns:
+        dict of (n_rows, ...) arrays ``ja``, ``jb``, ``bias``, ``gamma``, ``cfm_abs``,
+        ``lo``, ``hi``, ``fric`` (friction-bound coefficient, applied to the impulse of
+        row ``ref``), and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
+    """
+    q, qdot, dja, djb = dofs
+    dt = m.dt
+    dtype = vel6.dtype
+    parts = []  # (ja, jb, bias, gamma, cfm_abs, lo, hi, fric, body_a, body_b)
+
+    def add(ja, jb, bias, gamma, cfm_abs, lo, hi, fric, ba, bb):
+        n = ja.shape[0]
+        if n:
+            bc = lambda x: jnp.broadcast_to(jnp.asarray(x, dtype), (n,))  # noqa: E731
+            parts.append((ja, jb, bc(bias), bc(gamma), bc(cfm_abs), bc(lo), bc(hi),
+                          bc(fric), np.broadcast_to(ba, (n,)), np.broadcast_to(bb, (n,))))
+
+    dof_b1 = m.joint_body1[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
+    dof_b2 = m.joint_body2[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
+
+    # servos (FACTS §2.7)
+    if m.n_servo:
+        d = m.servo_dof
+        cmd = jnp.clip(action.astype(dtype), m.servo_lo, m.servo_hi)
+        err = q[d] - cmd
+        live = (jnp.abs(err) > m.servo_deadband).astype(dtype)
+        target_pos = -jnp.clip(m.servo_gain * err * live, -m.servo_max_velocity,
+                               m.servo_max_velocity)
+        is_pos = np.asarray(m.servo_kind == ServoKind.POSITION)
+        target = jnp.where(is_pos, target_pos, cmd)
+        imp = m.servo_max_torque * dt
+        add(dja[d], djb[d], -target, 0.0, 0.0, -imp, imp, 0.0, dof_b1[d], dof_b2[d])
+
+    # joint limits: one unilateral row per limited coordinate, on the violated side
+    nl = int(m.limit_dof.shape[0])
+    if nl:
+        d = m.limit_dof
+        below, above = q[d] - m.limit_lo, m.limit_hi - q[d]
+        sign = jnp.where(below < above, 1.0, -1.0).astype(dtype)
+        c = jnp.minimum(below, above)
+        erp, gamma = softness(m.limit_hz, m.limit_zeta, dt)
+        active = c < 0
+        add(dja[d] * sign[:, None], djb[d] * sign[:, None], erp / dt * c, gamma, 0.0, 0.0,
+            jnp.where(active, INF, 0.0), 0.0, dof_b1[d], dof_b2[d])
+
+    # joint springs
+    nk = int(m.jspring_dof.shape[0])
+    if nk:
+        d = m.jspring_dof
+        erp, cfm = _spring(m.jspring_k, m.jspring_c, dt)
+        add(dja[d], djb[d], erp / dt * (q[d] - m.jspring_rest), 0.0, cfm, -INF, INF, 0.0,
+            dof_b1[d], dof_b2[d])
+
+    # body springs along the line between the anchors
+    if len(m.spring_names):
+        dvec, length, ra, rb = spring_geo
+        erp, cfm = _spring(m.spring_k, m.spring_c, dt)
+        ja = jnp.concatenate([-dvec, -jnp.cross(ra, dvec)], -1)
+        jb = jnp.concatenate([dvec, jnp.cross(rb, dvec)], -1)
+        add(ja, jb, erp / dt * (length - m.spring_rest), 0.0, cfm, -INF, INF, 0.0,
+            m.spring_body1, m.spring_body2)
+
+    # contacts
+    np_ = m.n_pair
+    contact_start = sum(p[0].shape[0] for p in parts)
+    if np_:
+        n, ra, rb = contacts["normal"], contacts["ra"], contacts["rb"]
+        ba, bb = contacts["body_a"], contacts["body_b"]
+        mat = m.pair_material
+        erp, gamma = softness(m.material_hz[mat], m.material_zeta[mat], dt)
+        ja_n = jnp.concatenate([-n, -jnp.cross(ra, n)], -1)
+        jb_n = jnp.concatenate([n, jnp.cross(rb, n)], -1)
+        vn = jnp.sum(ja_n * vel6[ba], -1) + jnp.sum(jb_n * vel6[bb], -1)
+        dist = contacts["dist"]
+        active = dist < 0
+        pen = erp / dt * jnp.minimum(dist + m.contact_slop, 0.0)
+        bounce = m.material_restitution[mat] * jnp.minimum(vn + m.restitution_threshold, 0.0)
+        # a bouncing contact is a hard velocity target (softness would eat the bounce)
+        add(ja_n, jb_n, jnp.minimum(pen, bounce), jnp.where(bounce < pen, 0.0, gamma), 0.0,
+            0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
+        for t in (contacts["t1"], contacts["t2"]):
+            add(jnp.concatenate([-t, -jnp.cross(ra, t)], -1),
+                jnp.concatenate([t, jnp.cross(rb, t)], -1), 0.0, 0.0, 0.0, -INF, INF,
+                m.material_friction[mat], ba, bb)
+        if m.torsional:
+            z = jnp.zeros_like(n)
+            add(jnp.concatenate([z, -n], -1), jnp.concatenate([z, n], -1), 0.0, 0.0, 0.0,
+                -INF, INF, m.material_torsional[mat], ba, bb)
+
+    if not parts:
+        z = jnp.zeros((0,), dtype)
+        e = np.zeros((0,), np.int32)
+        return dict(ja=jnp.zeros((0, 6), dtype), jb=jnp.zeros((0, 6), dtype), bias=z,
+                    gamma=z, cfm_abs=z, lo=z, hi=z, fric=z, body_a=e, body_b=e, ref=e,
+                    is_fric=np.zeros((0,), bool))
+    cols = list(zip(*parts))
+    out = {k: jnp.concatenate(v) for k, v in zip(
+        ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric"), cols[:8])}
+    out["body_a"] = np.concatenate(cols[8]).astype(np.int32)
+    out["body_b"] = np.concatenate(cols[9]).astype(np.int32)
+    nr = out["bias"].shape[0]
+    ref = np.arange(nr, dtype=np.int32)
+    is_fric = np.zeros((nr,), bool)
+    if np_:
+        k = m.rows_per_contact
+        for r in range(1, k):
+            s = contact_start + r * np_
+            ref[s:s + np_] = contact_start + np.arange(np_)
+            is_fric[s:s + np_] = True
+    out["ref"], out["is_fric"] = ref, is_fric
+    return out

@@ -1,0 +1,125 @@
+"""Small, gradient-safe linear-algebra helpers of the engine (thesis §7.2).
+
+Every function is pure, branch-free and safe to differentiate everywhere: norms use the
+double-``where`` guard (ECOSYSTEM §3), angles come from ``atan2`` (never ``arccos``, whose
+derivative is infinite at ±1, FACTS §2.4), and nothing divides by a quantity that can be 0.
+Rotation matrices follow ``world_point = pos + rot @ local_point`` (columns = body axes in
+world coordinates); the original engine stored the transpose (FACTS §2.3).
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+import numpy as np
+
+__all__ = [
+    "skew",
+    "vee",
+    "safe_norm",
+    "safe_normalize",
+    "orthonormalize",
+    "quat_to_rot",
+    "tangent_basis",
+    "inv_spd",
+]
+
+
+def skew(w):
+    """Cross-product matrix [w]x of (..., 3) vectors -> (..., 3, 3), so [w]x @ v = w x v."""
+    z = jnp.zeros_like(w[..., 0])
+    x, y, zz = w[..., 0], w[..., 1], w[..., 2]
+    return jnp.stack([
+        jnp.stack([z, -zz, y], -1),
+        jnp.stack([zz, z, -x], -1),
+        jnp.stack([-y, x, z], -1),
+    ], -2)
+
+
+def vee(m):
+    """Axial vector of the skew part of (..., 3, 3) matrices: vee(S - S^T) / 2."""
+    return 0.5 * jnp.stack([
+        m[..., 2, 1] - m[..., 1, 2],
+        m[..., 0, 2] - m[..., 2, 0],
+        m[..., 1, 0] - m[..., 0, 1],
+    ], -1)
+
+
+def safe_norm(x, axis=-1, keepdims=False, eps=1e-12):
+    """Euclidean norm with a finite (zero) gradient at the origin (double-where).
+
+    Args:
+        x: (..., n) array.
+    Returns:
+        (...,) norm (or (..., 1) with ``keepdims``); exactly 0 where ``x`` is 0, and the
+        gradient there is 0 instead of NaN.
+    """
+    sq = jnp.sum(x * x, axis=axis, keepdims=keepdims)
+    ok = sq > eps * eps
+    return jnp.where(ok, jnp.sqrt(jnp.where(ok, sq, 1.0)), 0.0)
+
+
+def safe_normalize(x, fallback=None, eps=1e-12):
+    """x / |x| along the last axis, ``fallback`` (default: x unchanged) where |x| ~ 0."""
+    n = safe_norm(x, keepdims=True, eps=eps)
+    ok = n > eps
+    out = x / jnp.where(ok, n, 1.0)
+    if fallback is None:
+        return jnp.where(ok, out, x)
+    return jnp.where(ok, out, jnp.broadcast_to(fallback, x.shape))
+
+
+def orthonormalize(a, iterations=1):
+    """Re-orthonormalise rotation matrices with eq. 7.1, ``A' = (3A - A A^T A) / 2``.
+
+    One Newton-Schulz (Bjorck) step towards the nearest orthogonal matrix (thesis eq. 7.1,
+    FACTS §2.4 item 6). The thesis prints the product as elementwise ``A o (A . A)``; the
+    original code and the numerics use the matrix product ``A A^T A`` used here.
+
+    Args:
+        a: (..., 3, 3) nearly orthogonal matrices.
+        iterations: static number of steps (model field ``reortho_iterations``).
+    """
+    for _ in range(int(iterations)):  # static, tiny count (1 in every shipped model)
+        a = 1.5 * a - 0.5 * a @ jnp.swapaxes(a, -1, -2) @ a
+    return a
+
+
+def quat_to_rot(q):
+    """Unit quaternion [w, x, y, z] -> rotation matrix (numpy, used by the builder only)."""
+    w, x, y, z = np.asarray(q, dtype=np.float64) / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def tangent_basis(n):
+    """Two unit tangents (t1, t2) completing unit normals n (..., 3), branch-free.
+
+    Duff et al. (2017), "Building an orthonormal basis, revisited"; the sign switch is a
+    ``where`` on n_z, so the basis is smooth except across n_z = 0.
+    """
+    s = jnp.where(n[..., 2] >= 0, 1.0, -1.0).astype(n.dtype)
+    a = -1.0 / (s + n[..., 2])
+    b = n[..., 0] * n[..., 1] * a
+    t1 = jnp.stack([1.0 + s * n[..., 0] ** 2 * a, s * b, -s * n[..., 0]], -1)
+    t2 = jnp.stack([b, s + n[..., 1] ** 2 * a, -n[..., 1]], -1)
+    return t1, t2
+
+
+def inv_spd(a):
+    """Inverse of small symmetric positive-definite matrices (..., n, n), n static.
+
+    Unrolled Gauss-Jordan elimination without pivoting (safe for SPD matrices): a fixed,
+    short sequence of vectorised ops, much faster under XLA on CPU than a batched LAPACK
+    call when there are many tiny matrices (one per joint per robot).
+    """
+    n = a.shape[-1]
+    eye = jnp.broadcast_to(jnp.eye(n, dtype=a.dtype), a.shape)
+    m = jnp.concatenate([a, eye], axis=-1)
+    for k in range(n):  # static: n <= 6
+        row = m[..., k, :] / m[..., k:k + 1, k]
+        m = m - m[..., :, k:k + 1] * row[..., None, :]
+        m = m.at[..., k, :].set(row)
+    return m[..., :, n:]

@@ -1,0 +1,107 @@
+"""Closed-loop rollouts: the robot and its controller unrolled over time (thesis §7.3, Fig. 7.2).
+
+``rollout`` scans ``step`` with ``lax.scan`` (one compiled body, any number of steps),
+feeding the controller the sensors of the current state; it is a pure function, so
+``jax.jit``, ``jax.vmap`` (batches of robots) and ``jax.grad`` (BPTT w.r.t. controller
+parameters, the initial state or model parameters, eq. 7.2-7.3) apply directly.
+Two tricks of §7.3.2 / FACTS §2.11 are built in:
+
+* ``grad_decay`` = alpha < 1: identity in the forward pass, but the gradient flowing back
+  through each time step's state is multiplied by alpha (the original's ``MulGrad``),
+  implemented as ``alpha x + (1 - alpha) stop_gradient(x)``;
+* ``remat=True``: ``jax.checkpoint`` on the scan body, so the backward pass stores one
+  state per step instead of every intermediate of the solver (memory O(steps * state)).
+
+``batched_rollout`` vmaps over a batch of initial states (and optionally memories) and,
+when more than one XLA host device exists (``--xla_force_host_platform_device_count``,
+FACTS §8: XLA runs one core per device here), splits the batch across the devices with
+``jax.shard_map``.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jax.sharding import Mesh, PartitionSpec as P
+
+from thesis.physics.sensors import sensors as all_sensors
+from thesis.physics.step import step
+from thesis.physics.types import Model, State
+
+__all__ = ["rollout", "batched_rollout", "decay_gradient"]
+
+
+def decay_gradient(tree, alpha):
+    """Identity forward; multiplies the cotangent of every float leaf by ``alpha``."""
+    def f(x):
+        if not jnp.issubdtype(jnp.result_type(x), jnp.floating):
+            return x
+        a = jnp.asarray(alpha, x.dtype)
+        return a * x + (1 - a) * jax.lax.stop_gradient(x)
+    return jax.tree.map(f, tree)
+
+
+def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
+            memory0=None, grad_decay=1.0, remat=False, record=("body_pos",)):
+    """Simulate ``n_steps`` steps under a closed-loop controller.
+
+    Args:
+        model, state0: the model and initial state.
+        controller: ``(params, sensors: dict, memory, t) -> (action (n_servo,), memory)``,
+            with ``t`` the simulated time [s] of the current state and ``sensors`` the dict
+            of :func:`thesis.physics.sensors`.
+        params: controller parameters (any pytree).
+        n_steps: static number of steps.
+        memory0: initial controller memory (any pytree; None allowed).
+        grad_decay: per-step gradient decay alpha (1.0: exact BPTT), thesis §7.3.2.
+        remat: checkpoint the scan body (less memory for long gradients).
+        record: names of sensors (see ``sensors``) and/or ``"action"`` to record.
+    Returns:
+        ``(final_state, trajectory)``; ``trajectory[name]`` has shape (n_steps, ...) and
+        holds the value *after* each step (``"action"``: the command applied in it).
+    """
+    record = tuple(record)
+
+    def body(carry, _):
+        s, mem, sens = carry
+        action, mem = controller(params, sens, mem, s.time)
+        s = step(model, s, action)
+        if not (isinstance(grad_decay, (int, float)) and grad_decay == 1.0):
+            s = decay_gradient(s, grad_decay)
+        sens = all_sensors(model, s)
+        out = {k: (action if k == "action" else sens[k]) for k in record}
+        return (s, mem, sens), out
+
+    if remat:
+        body = jax.checkpoint(body)
+    carry0 = (state0, memory0, all_sensors(model, state0))
+    (final, _, _), traj = jax.lax.scan(body, carry0, None, length=int(n_steps))
+    return final, traj
+
+
+def batched_rollout(model: Model, states0: State, controller, params, n_steps: int, *,
+                    memory0=None, batch_memory=False, **kwargs):
+    """``rollout`` over a batch of initial states (leading axis B), sharing ``params``.
+
+    With ``jax.device_count() > 1`` and B divisible by the device count, the batch is
+    split across the host devices (``shard_map`` over a 1-D mesh ``"batch"``); otherwise
+    it is a plain ``jax.vmap``. ``memory0`` is shared unless ``batch_memory=True``.
+    Returns ``(final_states, trajectories)`` with a leading batch axis.
+    """
+    mem_axis = 0 if batch_memory else None
+
+    def run(s0, mem):
+        f = lambda s, mm: rollout(model, s, controller, params, n_steps,  # noqa: E731
+                                  memory0=mm, **kwargs)
+        return jax.vmap(f, in_axes=(0, mem_axis))(s0, mem)
+
+    n_dev = jax.device_count()
+    batch = jax.tree.leaves(states0)[0].shape[0]
+    if n_dev > 1 and batch % n_dev == 0:
+        mesh = Mesh(np.array(jax.devices()), ("batch",))
+        mem_spec = P("batch") if batch_memory else P()
+        sharded = jax.shard_map(run, mesh=mesh, in_specs=(P("batch"), mem_spec),
+                                out_specs=P("batch"), check_vma=False)
+        return sharded(states0, memory0)
+    return run(states0, memory0)

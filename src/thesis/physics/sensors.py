@@ -1,0 +1,56 @@
+"""Sensors of a robot (thesis §7.3.1 "81 sensors, e.g. encoders and an IMU"; FACTS §2.8).
+
+``sensors(model, state)`` returns every sensor at once as named arrays; controllers pick
+what they need. The accelerometer differentiates the linear velocity over the last step
+(``State.prev_vel``) and, like a real IMU, measures specific force (acceleration minus
+gravity) in the body frame; the gyroscope is the angular velocity in the body frame.
+Contact forces are the normal impulses the solver applied in the last step divided by dt.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from thesis.physics import kinematics
+from thesis.physics.types import Model, State
+
+__all__ = ["sensors", "contact_normal_force"]
+
+
+def contact_normal_force(m: Model, state: State):
+    """(n_csphere,) normal contact force on each contact sphere in the last step [N]."""
+    if m.n_pair == 0:
+        return jnp.zeros((m.n_csphere,), state.pos.dtype)
+    start = m.n_rows - m.rows_per_contact * m.n_pair
+    f = state.row_impulse[start:start + m.n_pair] / m.dt
+    other = np.where(m.pair_is_sphere, m.pair_other, m.n_csphere)  # n_csphere = dropped
+    seg = np.concatenate([m.pair_sphere, other]).astype(np.int32)
+    return jax.ops.segment_sum(jnp.concatenate([f, f]), seg, num_segments=m.n_csphere + 1)[:-1]
+
+
+def sensors(model: Model, state: State) -> dict:
+    """All sensors of ``state``.
+
+    Returns a dict of arrays:
+        joint_angle (n_dof,) [rad or m]; joint_velocity (n_dof,) [rad/s or m/s];
+        body_pos (n_body, 3) [m]; body_rot (n_body, 3, 3); body_vel (n_body, 3) [m/s];
+        body_angvel (n_body, 3) [rad/s] (world frame);
+        imu_acc (n_body, 3) specific force in the body frame [m/s^2] (reads +g upwards
+        at rest); imu_gyro (n_body, 3) angular velocity in the body frame [rad/s];
+        contact_force (n_csphere,) normal force [N].
+    """
+    m, s = model, state
+    pos, rot, vel6 = kinematics.extend(m, s.pos, s.rot, s.vel, s.angvel)
+    fr = kinematics.joint_frames(m, pos, rot)
+    q, qdot, _, _ = kinematics.joint_coordinates(m, fr, vel6)
+    acc = (s.vel - s.prev_vel) / m.dt - m.gravity
+    rt = jnp.swapaxes(s.rot, -1, -2)
+    return dict(
+        joint_angle=q, joint_velocity=qdot, body_pos=s.pos, body_rot=s.rot,
+        body_vel=s.vel, body_angvel=s.angvel,
+        imu_acc=jnp.einsum("nab,nb->na", rt, acc),
+        imu_gyro=jnp.einsum("nab,nb->na", rt, s.angvel),
+        contact_force=contact_normal_force(m, s),
+    )

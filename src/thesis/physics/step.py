@@ -1,0 +1,71 @@
+"""One time step of the engine, written as the algorithm of FACTS §2.4 / thesis §7.2.
+
+1. apply gravity (external forces) to the velocities;
+2. detect contacts and build the constraint rows (joints, servos, limits, springs,
+   contacts) at the current poses;
+3. warm-start with a fraction of last step's impulses and run the projected block-Jacobi
+   solver for the new velocities;
+4. integrate the poses with semi-implicit Euler and re-orthonormalise (eq. 7.1).
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+from thesis.physics import collision, constraint, integrator, kinematics, solver
+from thesis.physics.math import safe_norm
+from thesis.physics.types import Model, State
+
+__all__ = ["step", "spring_geometry"]
+
+
+def spring_geometry(m: Model, pos, rot):
+    """Unit direction (n_spring, 3), length (n_spring,), and anchor offsets of springs."""
+    b1, b2 = m.spring_body1, m.spring_body2
+    ra = jnp.einsum("sab,sb->sa", rot[b1], m.spring_anchor1)
+    rb = jnp.einsum("sab,sb->sa", rot[b2], m.spring_anchor2)
+    d = pos[b2] + rb - pos[b1] - ra
+    length = safe_norm(d)
+    ok = length > 1e-9
+    unit = jnp.where(ok[:, None], d / jnp.where(ok, length, 1.0)[:, None], 0.0)
+    return unit, length, ra, rb
+
+
+def step(model: Model, state: State, action) -> State:
+    """Advance ``state`` by ``model.dt``.
+
+    Args:
+        model: the Model. state: the State.
+        action: (n_servo,) servo commands (rad / m for position servos, rad/s / m/s for
+            velocity servos).
+    Returns:
+        The next State (its ``joint_impulse``/``row_impulse`` are this step's impulses).
+    """
+    m, s = model, state
+    dt = m.dt
+    with jax.named_scope("external_forces"):
+        vel0 = s.vel + dt * m.gravity
+        pos, rot, v0 = kinematics.extend(m, s.pos, s.rot, vel0, s.angvel)
+    with jax.named_scope("constraints"):
+        fr = kinematics.joint_frames(m, pos, rot)
+        dofs = kinematics.joint_coordinates(m, fr, v0)
+        ja, jb, err = kinematics.joint_rows(m, fr)
+        erp, gamma = constraint.softness(m.joint_hz, m.joint_zeta, dt)
+        blocks = dict(ja=ja, jb=jb, bias=erp[:, None] / dt * err,
+                      gamma=jnp.broadcast_to(gamma[:, None], err.shape),
+                      body_a=m.joint_body1, body_b=m.joint_body2)
+        contacts = collision.detect(m, pos, rot)
+        springs = spring_geometry(m, pos, rot)
+        rows = constraint.scalar_rows(m, dofs, contacts, springs, v0, action)
+    with jax.named_scope("solver"):
+        inv_m, inv_iw = solver.inverse_mass(m, rot)
+        v, lam_j, lam_r = solver.solve(m, v0, inv_m, inv_iw, blocks, rows,
+                                       m.warm_start * s.joint_impulse,
+                                       m.warm_start * s.row_impulse)
+    with jax.named_scope("integrate"):
+        nb = m.n_body
+        new_pos, new_rot, new_w = integrator.integrate(m, s.pos, s.rot, v[:nb, :3], v[:nb, 3:])
+    return s.replace(pos=new_pos, rot=new_rot, vel=v[:nb, :3], angvel=new_w,
+                     prev_vel=s.vel, joint_impulse=lam_j, row_impulse=lam_r,
+                     time=s.time + dt)

@@ -1,0 +1,158 @@
+"""Assemble the builder's declarations into static index tables and parameter arrays.
+
+Internal to ``builder.py`` (split off to keep modules short). Everything constant over a
+simulation -- body indices of every row, joint frames in body coordinates, rest relative
+rotations, the contact-pair list -- is computed here once, in numpy, so the traced step
+only does dense, static-shaped arithmetic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import jax.numpy as jnp
+
+from thesis.physics.types import DofKind, JointType, Model, ServoKind, State
+from thesis.physics.builder import _ROW_MASK
+
+
+def _arr(x, shape, dtype):
+    a = np.asarray(x, np.float64)
+    if a.size == 0:
+        a = np.zeros(shape, np.float64)
+    return jnp.asarray(a.reshape(shape), dtype=dtype)
+
+
+def build_model(b, dtype):
+    nb = len(b.bodies)
+    world = nb
+    fix = lambda i: world if i < 0 else i  # noqa: E731
+    J = b.joints
+    nj = len(J)
+
+    # joint coordinates (dofs)
+    dof_names, dof_joint, dof_kind, dof_slot = [], [], [], []
+    first_dof = {}
+    for ji, j in enumerate(J):
+        first_dof[j["name"]] = len(dof_names)
+        for k in range(JointType(j["type"]).dof_width()):
+            dof_names.append(f"{j['name']}:{k}")
+            dof_joint.append(ji)
+            dof_kind.append(DofKind.LINEAR if j["type"] == JointType.SLIDER else DofKind.ANGULAR)
+            dof_slot.append(k)
+
+    def dof_of(joint, axis):
+        return first_dof[joint] + axis
+
+    limits = [(first_dof[j["name"]] + k, lo, hi, j["hz"], j["zeta"])
+              for j in J if j["limits"] is not None
+              for k, (lo, hi) in enumerate(j["limits"])]
+    # joint limits use the builder's limit softness
+    limits = [(d, lo, hi, b.limit_hz, b.limit_zeta) for d, lo, hi, _, _ in limits]
+
+    S = b.servos
+    pairs_s, pairs_o, pairs_is, pairs_m = [], [], [], []
+    for si, s in enumerate(b.cspheres):
+        for pi, p in enumerate(b.planes):
+            pairs_s.append(si)
+            pairs_o.append(pi)
+            pairs_is.append(False)
+            pairs_m.append(s["material"] if s["material"] is not None else p["material"])
+    for s1, s2, m in b.sphere_pairs:
+        pairs_s.append(s1)
+        pairs_o.append(s2)
+        pairs_is.append(True)
+        pairs_m.append(m)
+    torsional = any(b.materials[m]["torsional"] > 0 for m in pairs_m)
+
+    tex = b.textures
+    if tex:
+        h = max(t["image"].shape[0] for t in tex)
+        w = max(t["image"].shape[1] for t in tex)
+        if any(t["image"].shape[:2] != (h, w) for t in tex):
+            raise ValueError("all textures must have the same size")
+        textures = np.stack([t["image"] for t in tex])
+    else:
+        textures = np.ones((1, 1, 1, 3))
+    G, C = b.geoms, b.cameras
+    tex_index = lambda name: -1 if name is None else [t["name"] for t in tex].index(name)  # noqa
+
+    f = lambda key, src, shape: _arr([x[key] for x in src], shape, dtype)  # noqa: E731
+    ints = lambda xs: np.asarray(xs, dtype=np.int32).reshape(-1)  # noqa: E731
+
+    model = Model(
+        name=b.name, n_body=nb, body_names=tuple(x["name"] for x in b.bodies),
+        solver_iterations=b.solver_iterations, reortho_iterations=b.reortho_iterations,
+        joint_names=tuple(j["name"] for j in J),
+        joint_type=ints([int(j["type"]) for j in J]),
+        joint_body1=ints([fix(j["b1"]) for j in J]),
+        joint_body2=ints([fix(j["b2"]) for j in J]),
+        joint_row_mask=np.asarray([_ROW_MASK[j["type"]] for j in J], bool).reshape(nj, 6),
+        dof_names=tuple(dof_names), dof_joint=ints(dof_joint), dof_kind=ints(dof_kind),
+        dof_slot=ints(dof_slot),
+        servo_names=tuple(s["name"] for s in S),
+        servo_dof=ints([dof_of(s["joint"], s["axis"]) for s in S]),
+        servo_kind=ints([int(s["kind"]) for s in S]),
+        limit_dof=ints([l[0] for l in limits]),
+        jspring_dof=ints([dof_of(s["joint"], s["axis"]) for s in b.jsprings]),
+        spring_names=tuple(s["name"] for s in b.springs),
+        spring_body1=ints([fix(s["b1"]) for s in b.springs]),
+        spring_body2=ints([fix(s["b2"]) for s in b.springs]),
+        csphere_body=ints([fix(s["body"]) for s in b.cspheres]),
+        pair_sphere=ints(pairs_s), pair_other=ints(pairs_o),
+        pair_is_sphere=np.asarray(pairs_is, bool).reshape(-1), pair_material=ints(pairs_m),
+        torsional=bool(torsional),
+        material_names=tuple(m["name"] for m in b.materials),
+        plane_names=tuple(p["name"] for p in b.planes),
+        geom_type=ints([int(g["type"]) for g in G]),
+        geom_body=ints([g["body"] for g in G]),
+        geom_texture=ints([tex_index(g["texture"]) for g in G]),
+        camera_names=tuple(c["name"] for c in C),
+        camera_body=ints([c["body"] for c in C]),
+        camera_pixels=tuple(c["pixels"] for c in C),
+        dt=jnp.asarray(b.dt, dtype), gravity=jnp.asarray(b.gravity, dtype),
+        warm_start=jnp.asarray(b.warm_start, dtype), relaxation=jnp.asarray(b.relaxation, dtype),
+        restitution_threshold=jnp.asarray(b.restitution_threshold, dtype),
+        contact_slop=jnp.asarray(b.contact_slop, dtype),
+        body_mass=f("mass", b.bodies, (nb,)), body_inertia=f("inertia", b.bodies, (nb, 3, 3)),
+        joint_anchor1=f("anchor1", J, (nj, 3)), joint_anchor2=f("anchor2", J, (nj, 3)),
+        joint_frame1=f("frame1", J, (nj, 3, 3)), joint_frame2=f("frame2", J, (nj, 3, 3)),
+        joint_rel_rot=f("rel", J, (nj, 3, 3)),
+        joint_hz=f("hz", J, (nj,)), joint_zeta=f("zeta", J, (nj,)),
+        servo_gain=f("gain", S, (len(S),)), servo_max_torque=f("torque", S, (len(S),)),
+        servo_max_velocity=f("vmax", S, (len(S),)), servo_deadband=f("deadband", S, (len(S),)),
+        servo_lo=f("lo", S, (len(S),)), servo_hi=f("hi", S, (len(S),)),
+        limit_lo=_arr([l[1] for l in limits], (len(limits),), dtype),
+        limit_hi=_arr([l[2] for l in limits], (len(limits),), dtype),
+        limit_hz=_arr([l[3] for l in limits], (len(limits),), dtype),
+        limit_zeta=_arr([l[4] for l in limits], (len(limits),), dtype),
+        jspring_k=f("k", b.jsprings, (len(b.jsprings),)),
+        jspring_c=f("c", b.jsprings, (len(b.jsprings),)),
+        jspring_rest=f("rest", b.jsprings, (len(b.jsprings),)),
+        spring_anchor1=f("a1", b.springs, (len(b.springs), 3)),
+        spring_anchor2=f("a2", b.springs, (len(b.springs), 3)),
+        spring_k=f("k", b.springs, (len(b.springs),)),
+        spring_c=f("c", b.springs, (len(b.springs),)),
+        spring_rest=f("rest", b.springs, (len(b.springs),)),
+        csphere_radius=f("radius", b.cspheres, (len(b.cspheres),)),
+        csphere_offset=f("offset", b.cspheres, (len(b.cspheres), 3)),
+        plane_normal=f("normal", b.planes, (len(b.planes), 3)),
+        plane_offset=f("offset", b.planes, (len(b.planes),)),
+        material_friction=f("friction", b.materials, (len(b.materials),)),
+        material_restitution=f("restitution", b.materials, (len(b.materials),)),
+        material_hz=f("hz", b.materials, (len(b.materials),)),
+        material_zeta=f("zeta", b.materials, (len(b.materials),)),
+        material_torsional=f("torsional", b.materials, (len(b.materials),)),
+        geom_size=f("size", G, (len(G), 3)), geom_pos=f("pos", G, (len(G), 3)),
+        geom_rot=f("rot", G, (len(G), 3, 3)), geom_color=f("color", G, (len(G), 3)),
+        textures=jnp.asarray(textures, dtype),
+        camera_pos=f("pos", C, (len(C), 3)), camera_rot=f("rot", C, (len(C), 3, 3)),
+        camera_focal=f("focal", C, (len(C),)), camera_sensor=f("sensor", C, (len(C), 2)),
+    )
+    vel = f("vel", b.bodies, (nb, 3))
+    state = State(
+        pos=f("pos", b.bodies, (nb, 3)), rot=f("rot", b.bodies, (nb, 3, 3)), vel=vel,
+        angvel=f("angvel", b.bodies, (nb, 3)), prev_vel=vel,
+        joint_impulse=jnp.zeros((nj, 6), dtype), row_impulse=jnp.zeros((model.n_rows,), dtype),
+        time=jnp.zeros((), dtype),
+    )
+    return model, state

@@ -1,0 +1,343 @@
+"""Model and State pytrees and the enums of the engine (thesis §7.2, DESIGN "The physics engine").
+
+Both are frozen dataclasses registered with ``jax.tree_util``. Fields listed in a class's
+``_STATIC`` tuple are topology and loop counts (ints, tuples, numpy arrays, strings): they
+go into the tree definition, so shapes and loop bounds stay static under ``jit`` and a
+model with other topology compiles anew. Every other field is a ``jax.Array`` leaf:
+physical parameters can be differentiated (morphology gradients) and batched with
+``vmap``. Build them only with keywords and change them with ``.replace(...)``.
+
+Conventions: world frame z up; a body's pose is (pos, rot) with
+``world_point = pos + rot @ local_point`` (the original engine stored ``rot`` transposed,
+FACTS §2.3); ``pos`` is the centre of mass; ``vel``/``angvel`` are world-frame linear and
+angular velocities of the centre of mass. Index ``n_body`` stands for the static world body
+in every body-index array (``geom_body`` and ``camera_body`` use -1 for the world, as in
+the camera contract).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import enum
+from typing import Any
+
+import jax
+import numpy as np
+
+__all__ = ["JointType", "DofKind", "ServoKind", "GeomType", "Model", "State"]
+
+
+class JointType(enum.IntEnum):
+    """Joint kinds (FACTS §2.5). ``dof_width()`` is the number of free joint coordinates."""
+
+    HINGE = 0
+    UNIVERSAL = 1
+    BALL = 2
+    FIXED = 3
+    SLIDER = 4
+
+    def dof_width(self) -> int:
+        return {0: 1, 1: 2, 2: 3, 3: 0, 4: 1}[int(self)]
+
+
+class DofKind(enum.IntEnum):
+    """A joint coordinate is an angle [rad] or a displacement [m]."""
+
+    ANGULAR = 0
+    LINEAR = 1
+
+
+class ServoKind(enum.IntEnum):
+    """Position servo (target coordinate) or velocity servo (target rate), FACTS §2.7."""
+
+    POSITION = 0
+    VELOCITY = 1
+
+
+class GeomType(enum.IntEnum):
+    """Visual geometry kinds read by the camera (engine_api.md)."""
+
+    SPHERE = 0
+    BOX = 1
+    PLANE = 2
+
+
+class _StaticAux:
+    """Hashable wrapper of static field values (numpy arrays compared by value)."""
+
+    __slots__ = ("values", "_key")
+
+    def __init__(self, values):
+        self.values = values
+        self._key = tuple(_freeze(v) for v in values)
+
+    def __hash__(self):
+        return hash(self._key)
+
+    def __eq__(self, other):
+        return isinstance(other, _StaticAux) and self._key == other._key
+
+
+def _freeze(v):
+    if isinstance(v, np.ndarray):
+        return ("nd", v.dtype.str, v.shape, v.tobytes())
+    if isinstance(v, (list, tuple)):
+        return tuple(_freeze(x) for x in v)
+    return v
+
+
+def _register(cls):
+    static = cls._STATIC
+    names = [f.name for f in dataclasses.fields(cls)]
+    data = [n for n in names if n not in static]
+
+    def flatten_with_keys(obj):
+        children = [(jax.tree_util.GetAttrKey(n), getattr(obj, n)) for n in data]
+        return children, _StaticAux(tuple(getattr(obj, n) for n in static))
+
+    def flatten(obj):
+        return [getattr(obj, n) for n in data], _StaticAux(tuple(getattr(obj, n) for n in static))
+
+    def unflatten(aux, children):
+        obj = object.__new__(cls)
+        for n, v in zip(data, children):
+            object.__setattr__(obj, n, v)
+        for n, v in zip(static, aux.values):
+            object.__setattr__(obj, n, v)
+        return obj
+
+    jax.tree_util.register_pytree_with_keys(cls, flatten_with_keys, unflatten, flatten)
+    return cls
+
+
+class _Replace:
+    def replace(self, **changes):
+        """A copy with the given fields changed (keywords only)."""
+        return dataclasses.replace(self, **changes)
+
+
+@_register
+@dataclasses.dataclass(frozen=True, kw_only=True, eq=False)
+class Model(_Replace):
+    """A rigid-body scene: bodies, joints, servos, springs, contacts, geometry, cameras.
+
+    Static (topology, counts; numpy / int / tuple):
+        name: model name.
+        n_body: number of dynamic bodies (the world is index ``n_body``).
+        body_names: (n_body,) names.
+        solver_iterations: block-Jacobi PGS sweeps per step.
+        reortho_iterations: eq. 7.1 steps per time step.
+        joint_names, joint_type (n_joint,) JointType, joint_body1/joint_body2 (n_joint,)
+            body indices, joint_row_mask (n_joint, 6) bool: which of the 6 equality rows
+            (3 linear, 3 angular) of a joint are used.
+        dof_names, dof_joint (n_dof,), dof_kind (n_dof,) DofKind, dof_slot (n_dof,) index
+            of the coordinate within its joint.
+        servo_names, servo_dof (n_servo,), servo_kind (n_servo,) ServoKind.
+        limit_dof (n_limit,), jspring_dof (n_jspring,), spring_names,
+        spring_body1/spring_body2 (n_spring,).
+        csphere_body (n_csphere,) body of each contact sphere.
+        pair_sphere (n_pair,) contact sphere, pair_other (n_pair,) plane index or second
+        contact sphere, pair_is_sphere (n_pair,) bool, pair_material (n_pair,) material.
+        torsional: whether contacts carry a torsional-friction row.
+        material_names, plane_names.
+        geom_type (G,) GeomType, geom_body (G,) (-1 world), geom_texture (G,) (-1 none).
+        camera_names, camera_body (C,) (-1 world), camera_pixels ((px_w, px_h), ...).
+
+    Traced (jax.Array):
+        dt: () time step [s]. gravity: (3,) [m/s^2]. warm_start: () fraction of last
+        step's impulses used as the initial guess. relaxation: () Jacobi relaxation factor.
+        restitution_threshold: () approach speed below which no bounce is added [m/s].
+        contact_slop: () allowed penetration before position correction [m].
+        body_mass (n_body,) [kg]; body_inertia (n_body, 3, 3) about the CoM, body frame
+        [kg m^2].
+        joint_anchor1/2 (n_joint, 3) anchor in body1/body2 frame [m]; joint_frame1/2
+        (n_joint, 3, 3) joint axes (columns: axis 1, axis 2, their cross product) in the
+        body1/body2 frames; joint_rel_rot (n_joint, 3, 3) rest relative rotation
+        rot1^T rot2; joint_hz, joint_zeta (n_joint,) softness (natural frequency [Hz],
+        damping ratio).
+        servo_gain [1/s], servo_max_torque [N m or N], servo_max_velocity [rad/s or m/s],
+        servo_deadband [rad or m], servo_lo/servo_hi command range (n_servo,).
+        limit_lo, limit_hi (n_limit,) [rad or m]; limit_hz, limit_zeta (n_limit,).
+        jspring_k [N m/rad or N/m], jspring_c [N m s/rad or N s/m], jspring_rest (n_jspring,).
+        spring_anchor1/2 (n_spring, 3) body frames [m], spring_k [N/m], spring_c [N s/m],
+        spring_rest [m] (n_spring,).
+        csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m].
+        plane_normal (n_plane, 3) unit, plane_offset (n_plane,) [m]: plane n.x = offset.
+        material_friction, material_restitution, material_hz, material_zeta,
+        material_torsional [m] (n_material,).
+        geom_size (G, 3), geom_pos (G, 3), geom_rot (G, 3, 3), geom_color (G, 3),
+        textures (T, h, w, 3).
+        camera_pos (C, 3), camera_rot (C, 3, 3), camera_focal (C,) [m], camera_sensor (C, 2) [m].
+    """
+
+    _STATIC = (
+        "name", "n_body", "body_names", "solver_iterations", "reortho_iterations",
+        "joint_names", "joint_type", "joint_body1", "joint_body2", "joint_row_mask",
+        "dof_names", "dof_joint", "dof_kind", "dof_slot",
+        "servo_names", "servo_dof", "servo_kind", "limit_dof", "jspring_dof",
+        "spring_names", "spring_body1", "spring_body2",
+        "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
+        "torsional", "material_names", "plane_names",
+        "geom_type", "geom_body", "geom_texture",
+        "camera_names", "camera_body", "camera_pixels",
+    )
+
+    name: str
+    n_body: int
+    body_names: tuple
+    solver_iterations: int
+    reortho_iterations: int
+    joint_names: tuple
+    joint_type: np.ndarray
+    joint_body1: np.ndarray
+    joint_body2: np.ndarray
+    joint_row_mask: np.ndarray
+    dof_names: tuple
+    dof_joint: np.ndarray
+    dof_kind: np.ndarray
+    dof_slot: np.ndarray
+    servo_names: tuple
+    servo_dof: np.ndarray
+    servo_kind: np.ndarray
+    limit_dof: np.ndarray
+    jspring_dof: np.ndarray
+    spring_names: tuple
+    spring_body1: np.ndarray
+    spring_body2: np.ndarray
+    csphere_body: np.ndarray
+    pair_sphere: np.ndarray
+    pair_other: np.ndarray
+    pair_is_sphere: np.ndarray
+    pair_material: np.ndarray
+    torsional: bool
+    material_names: tuple
+    plane_names: tuple
+    geom_type: np.ndarray
+    geom_body: np.ndarray
+    geom_texture: np.ndarray
+    camera_names: tuple
+    camera_body: np.ndarray
+    camera_pixels: tuple
+
+    dt: Any
+    gravity: Any
+    warm_start: Any
+    relaxation: Any
+    restitution_threshold: Any
+    contact_slop: Any
+    body_mass: Any
+    body_inertia: Any
+    joint_anchor1: Any
+    joint_anchor2: Any
+    joint_frame1: Any
+    joint_frame2: Any
+    joint_rel_rot: Any
+    joint_hz: Any
+    joint_zeta: Any
+    servo_gain: Any
+    servo_max_torque: Any
+    servo_max_velocity: Any
+    servo_deadband: Any
+    servo_lo: Any
+    servo_hi: Any
+    limit_lo: Any
+    limit_hi: Any
+    limit_hz: Any
+    limit_zeta: Any
+    jspring_k: Any
+    jspring_c: Any
+    jspring_rest: Any
+    spring_anchor1: Any
+    spring_anchor2: Any
+    spring_k: Any
+    spring_c: Any
+    spring_rest: Any
+    csphere_radius: Any
+    csphere_offset: Any
+    plane_normal: Any
+    plane_offset: Any
+    material_friction: Any
+    material_restitution: Any
+    material_hz: Any
+    material_zeta: Any
+    material_torsional: Any
+    geom_size: Any
+    geom_pos: Any
+    geom_rot: Any
+    geom_color: Any
+    textures: Any
+    camera_pos: Any
+    camera_rot: Any
+    camera_focal: Any
+    camera_sensor: Any
+
+    # ---- derived static sizes -------------------------------------------------------
+    @property
+    def n_joint(self) -> int:
+        return len(self.joint_names)
+
+    @property
+    def n_dof(self) -> int:
+        return len(self.dof_names)
+
+    @property
+    def n_servo(self) -> int:
+        return len(self.servo_names)
+
+    @property
+    def n_csphere(self) -> int:
+        return int(self.csphere_body.shape[0])
+
+    @property
+    def n_pair(self) -> int:
+        return int(self.pair_sphere.shape[0])
+
+    @property
+    def rows_per_contact(self) -> int:
+        return 4 if self.torsional else 3
+
+    @property
+    def n_rows(self) -> int:
+        """Number of scalar (non-joint-block) constraint rows."""
+        return (self.n_servo + int(self.limit_dof.shape[0]) + int(self.jspring_dof.shape[0])
+                + len(self.spring_names) + self.n_pair * self.rows_per_contact)
+
+    def body(self, name: str) -> int:
+        """Index of the body called ``name``."""
+        return self.body_names.index(name)
+
+    def dof(self, name: str) -> int:
+        """Index of a joint coordinate: ``"joint"`` (first) or ``"joint:k"``."""
+        return self.dof_names.index(name if ":" in name else f"{name}:0")
+
+    def servo(self, name: str) -> int:
+        """Index of the servo called ``name`` (default name: its joint coordinate)."""
+        return self.servo_names.index(name)
+
+
+@_register
+@dataclasses.dataclass(frozen=True, kw_only=True, eq=False)
+class State(_Replace):
+    """Dynamic state of a model (all traced).
+
+    Attributes:
+        pos: (n_body, 3) world position of each body's centre of mass [m].
+        rot: (n_body, 3, 3) orientation, world_point = pos + rot @ local_point.
+        vel: (n_body, 3) world linear velocity [m/s].
+        angvel: (n_body, 3) world angular velocity [rad/s].
+        prev_vel: (n_body, 3) linear velocity one step earlier (for the accelerometer).
+        joint_impulse: (n_joint, 6) last step's joint-row impulses (warm start) [N s].
+        row_impulse: (n_rows,) last step's scalar-row impulses [N s or N m s].
+        time: () simulated time [s].
+    """
+
+    _STATIC = ()
+
+    pos: Any
+    rot: Any
+    vel: Any
+    angvel: Any
+    prev_vel: Any
+    joint_impulse: Any
+    row_impulse: Any
+    time: Any
