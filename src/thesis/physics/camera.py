@@ -96,7 +96,7 @@ def project(pos, rot, focal_length, sensor_size, pixels, points, z_min=1e-6):
     points = jnp.asarray(points)
     dtype = points.dtype if jnp.issubdtype(points.dtype, jnp.floating) else jnp.float32
     points = points.astype(dtype)
-    pc = (points - jnp.asarray(pos, dtype)) @ jnp.asarray(rot, dtype)  # rot^T (p - pos)
+    pc = (points - jnp.asarray(pos, dtype)[None, :]) @ jnp.asarray(rot, dtype)  # rot^T (p - pos)
     z = pc[:, 2]
     in_front = z > z_min
     inv_z = jnp.where(in_front, 1.0 / jnp.where(in_front, z, 1.0), 0.0)
@@ -104,7 +104,7 @@ def project(pos, rot, focal_length, sensor_size, pixels, points, z_min=1e-6):
     sensor = jnp.asarray(sensor_size, dtype)
     px = jnp.asarray([pixels[0], pixels[1]], dtype)
     xy = f * pc[:, :2] * inv_z[:, None]  # sensor coordinates [m]
-    uv = (xy / sensor + 0.5) * px - 0.5
+    uv = (xy / sensor[None, :] + 0.5) * px[None, :] - 0.5
     return uv, in_front
 
 
