@@ -1,0 +1,65 @@
+"""Every claim of the thesis as a check on result datasets (chapters 2-7 and §8.1).
+
+Public API:
+
+- ``CLAIMS``: all :class:`Claim` objects, chapter order; ``get(id)`` one of them;
+- :func:`evaluate_all` ``(results)``: JSON-ready verdicts of every claim, with the
+  published numbers each rests on and the numbers measured;
+- :class:`Verdict`, :class:`Claim`, :data:`STATUSES`; the statistics in
+  :mod:`thesis.claims.stats`.
+
+``results`` maps result keys (``"ch2/table2_2"``) to loaded datasets, as
+:func:`thesis.store.load_results` returns them. Verdicts are computed from those datasets
+only; a claim whose datasets are missing is ``not_run``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import xarray as xr
+
+from thesis import paper
+from thesis.claims import ch2, ch3, ch4, ch5, ch6, ch7, ch8
+from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
+
+__all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
+           "evaluate", "evaluate_all"]
+
+CLAIMS: tuple[Claim, ...] = (
+    *ch2.CLAIMS, *ch3.CLAIMS, *ch4.CLAIMS, *ch5.CLAIMS, *ch6.CLAIMS, *ch7.CLAIMS, *ch8.CLAIMS,
+)
+
+_BY_ID: dict[str, Claim] = {}
+for _c in CLAIMS:
+    if _c.id in _BY_ID:
+        raise ValueError(f"duplicate claim id {_c.id!r}")
+    _BY_ID[_c.id] = _c
+del _c
+
+
+def get(claim_id: str) -> Claim:
+    """The claim with id ``claim_id``."""
+    return _BY_ID[claim_id]
+
+
+def _paper_entry(key: str) -> dict[str, object]:
+    e = paper.get(key)
+    return {"key": e.key, "table": e.table, "row": e.row, "column": e.column,
+            "value": e.value, "unit": e.unit}
+
+
+def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, object]:
+    """One claim's verdict as a JSON-ready dict (claim fields, paper numbers, verdict)."""
+    verdict = claim.check(results)
+    return {
+        "id": claim.id, "chapter": claim.chapter, "section": claim.section,
+        "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
+        "reads": list(claim.reads), "paper": [_paper_entry(k) for k in claim.paper_keys],
+        **verdict.to_dict(),
+    }
+
+
+def evaluate_all(results: Mapping[str, xr.Dataset]) -> list[dict[str, object]]:
+    """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`)."""
+    return [evaluate(c, results) for c in CLAIMS]

@@ -1,0 +1,144 @@
+"""Claims of chapter 2 (spatial chirp-Z transformer networks), checked on ``ch2/table2_2``.
+
+Dataset contract (``results/<profile>/ch2/table2_2.nc``):
+
+- dims ``seed``, ``model`` (``"ffn_spn"``, ``"rnn_spn"``), ``d`` (1, 2, 3),
+  ``transform`` (``"bilinear"``, ``"bilinear_no_skew"``, ``"chirp_z"``, ``"none"``);
+- variable ``test_error``: per-digit test error, units ``"1"`` (fraction) or ``"percent"``.
+
+Every check reduces to one value per seed by averaging the model/d cells it compares
+(rule 1 of :mod:`thesis.claims.stats`). The "none" transform is the plain network; the
+thesis prints one value for it (ditto marks), so it is averaged over model and d too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from thesis import paper
+from thesis.claims import stats
+from thesis.claims.types import Claim, Results, Verdict, as_fraction, pick, variable
+
+KEY = "ch2/table2_2"
+READS = (f"{KEY}:test_error",)
+SPATIAL = ["bilinear", "bilinear_no_skew", "chirp_z"]
+#: Equivalence margin of "performs similarly": per-seed |chirp-Z - other| / other < 25 %
+#: (the uniform relative tolerance, rule 7), fixed before any result existed.
+SIMILAR_MARGIN = stats.PUBLISHED_TOLERANCE
+
+
+def _errors(results: Results):
+    da = variable(results, KEY, "test_error", dims=("model", "d", "transform"))
+    return as_fraction(da)
+
+
+def _transform_means(results: Results, transforms: list[str]):
+    """Per-seed error of each transform, averaged over model and d: dims (seed, transform)."""
+    return stats.per_seed(pick(_errors(results), transform=transforms), keep=("transform",))
+
+
+def _mean_of(per, transforms: list[str]) -> np.ndarray:
+    return per.sel(transform=transforms).mean("transform").values
+
+
+def spatial_beats_plain(results: Results, transforms: list[str] = SPATIAL) -> Verdict:
+    """Spatial transformer networks (mean of ``transforms``) have lower error than "none"."""
+    per = _transform_means(results, [*transforms, "none"])
+    label = "spatial" if len(transforms) > 1 else transforms[0]
+    v = stats.decide_beats(_mean_of(per, transforms), _mean_of(per, ["none"]),
+                           higher_is_better=False, label_a=label, label_b="none")
+    extra = {f"mean_error_{t}": float(np.nanmean(per.sel(transform=t).values))
+             for t in [*transforms, "none"]}
+    return Verdict(v.status, {**v.measured, **extra}, v.statistic, v.detail)
+
+
+def chirpz_similar(results: Results, other: str) -> Verdict:
+    """Chirp-Z error equals ``other``'s within a relative margin (equivalence)."""
+    per = _transform_means(results, ["chirp_z", other])
+    cz, ot = _mean_of(per, ["chirp_z"]), _mean_of(per, [other])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = (cz - ot) / ot
+    v = stats.decide_equivalent(rel, margin=SIMILAR_MARGIN, label="relative_difference")
+    extra = {"mean_error_chirp_z": float(np.nanmean(cz)), f"mean_error_{other}":
+             float(np.nanmean(ot))}
+    return Verdict(v.status, {**v.measured, **extra}, v.statistic, v.detail)
+
+
+def chirpz_reaches_published_error(results: Results) -> Verdict:
+    """The best chirp-Z configuration's error is at most the thesis's 1.8 % (+25 %)."""
+    err = pick(_errors(results), transform="chirp_z")
+    cells = stats.per_seed(err, keep=("model", "d"))
+    means = cells.mean("seed", skipna=True).stack(cell=("model", "d"))
+    if not np.isfinite(means.values).any():
+        return Verdict("inconclusive", {}, "best chirp-Z configuration", "no finite errors")
+    i = int(np.nanargmin(means.values))
+    model, d = means["model"].values[i], means["d"].values[i]
+    values = cells.sel(model=model, d=d).values
+    published = paper.get("table2_2/transform=chirp_z/best_test_error").value / 100.0
+    bound = published * (1 + stats.PUBLISHED_TOLERANCE)
+    v = stats.decide_threshold(values, bound=bound, below=True, label="best_chirp_z_error")
+    extra = {"best_model": str(model), "best_d": float(d), "published_error": published}
+    return Verdict(v.status, {**v.measured, **extra},
+                   v.statistic + " (configuration chosen by its mean over seeds)", v.detail)
+
+
+def recurrent_beats_feedforward(results: Results) -> Verdict:
+    """RNN-SPN has lower error than FFN-SPN, averaged over d and the spatial transforms."""
+    err = pick(_errors(results), transform=SPATIAL, model=["ffn_spn", "rnn_spn"])
+    per = stats.per_seed(err, keep=("model",))
+    return stats.decide_beats(per.sel(model="rnn_spn").values, per.sel(model="ffn_spn").values,
+                              higher_is_better=False, label_a="rnn_spn", label_b="ffn_spn")
+
+
+def _cells(transforms) -> tuple[str, ...]:
+    return tuple(f"table2_2/model={m}/d={d}/transform={t}/test_error"
+                 for m in ("ffn_spn", "rnn_spn") for d in (1, 2, 3) for t in transforms)
+
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim(
+        id="ch2.spatial_transformers_beat_plain", chapter=2, section="§2.5",
+        quote="we found that the use of spatial transformer networks significantly improves "
+              "the achieved accuracy on the cluttered MNIST dataset compared to standard "
+              "neural networks.",
+        summary="Mean test error of the three spatial transformers (over model and d) is lower "
+                "than the plain network's (rule 4, paired over seeds).",
+        paper_keys=_cells(["bilinear", "bilinear_no_skew", "chirp_z", "none"]),
+        requires=(KEY,), reads=READS, fn=spatial_beats_plain,
+    ),
+    Claim(
+        id="ch2.chirpz_similar_to_bilinear_no_skew", chapter=2, section="§2.5",
+        quote="Also, we find that our chirp-Z approach performs similarly to the bilinear "
+              "approach without skew",
+        summary="Per-seed relative difference of chirp-Z and bilinear-no-skew error (mean over "
+                "model and d) lies within +-25 % (equivalence, rule 5).",
+        paper_keys=_cells(["bilinear_no_skew", "chirp_z"]),
+        requires=(KEY,), reads=READS,
+        fn=lambda r: chirpz_similar(r, "bilinear_no_skew"),
+    ),
+    Claim(
+        id="ch2.chirpz_similar_to_bilinear", chapter=2, section="§2.6",
+        quote="We have shown that this approach to transforming images works similarly well as "
+              "the now common bilinear transform implementation",
+        summary="Per-seed relative difference of chirp-Z and full bilinear error lies within "
+                "+-25 % (equivalence, rule 5). The thesis's own table gives +51 %.",
+        paper_keys=_cells(["bilinear", "chirp_z"]),
+        requires=(KEY,), reads=READS, fn=lambda r: chirpz_similar(r, "bilinear"),
+    ),
+    Claim(
+        id="ch2.chirpz_reaches_1_8_percent", chapter=2, section="§2.5",
+        quote="being able to achieve a 1.8% error rate.",
+        summary="The best chirp-Z configuration (by mean over seeds) has a per-seed error whose "
+                "interval lies below 1.8 % x 1.25 (rule 6 with the published tolerance).",
+        paper_keys=("table2_2/transform=chirp_z/best_test_error",),
+        requires=(KEY,), reads=READS, fn=chirpz_reaches_published_error,
+    ),
+    Claim(
+        id="ch2.recurrent_beats_feedforward", chapter=2, section="Tab. 2.2",
+        quote="Tab. 2.2: Per digit error test scores on the cluttered MNIST sequence",
+        summary="RNN-SPN has lower test error than FFN-SPN, averaged over d and the spatial "
+                "transforms (rule 4); shown by Tab. 2.2, not stated in the prose.",
+        paper_keys=_cells(["bilinear", "bilinear_no_skew", "chirp_z"]),
+        requires=(KEY,), reads=READS, fn=recurrent_beats_feedforward,
+    ),
+)

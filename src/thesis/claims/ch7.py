@@ -1,0 +1,320 @@
+"""Claims of chapter 7 (a differentiable physics engine for deep learning in robotics).
+
+Dataset contracts (``results/<profile>/ch7/<artifact>.nc``):
+
+- ``ball``: dims ``seed``, ``method`` (``"gradient"``, ``"cmaes"``); variables
+  ``iterations`` [1] (optimiser iterations until the §7.2.1 tolerance is met) and
+  ``wall_seconds`` [s] (wall-clock time of that optimisation).
+- ``table7_1``: dims ``device`` (``"cpu"``, ``"gpu"``), ``batch`` (1, 128), ``n_params``
+  (1296, 1147904), ``gradient`` (0, 1), optionally ``repeat``/``seed`` (the median is
+  used); variable ``seconds`` [s] to simulate the batch for 10 model seconds. Missing
+  cells (no GPU on the machine) are NaN or absent.
+- ``arm_fixed``: dims ``seed``, ``evaluation`` (1-based count of model evaluations);
+  variable ``distance`` [m], end-effector distance to the target after that evaluation.
+- ``arm_random``: dims ``seed``, ``update`` (1-based count of update steps); variable
+  ``distance`` [m], the batch's mean end-effector distance to its targets.
+- ``quadruped_gait``: dims ``seed``, ``evaluation``; variable ``speed`` [m/s], the
+  average forward spine speed over the 10 s episode of the controller after it.
+- ``pendulum_pixels``: dims ``seed``, ``episode``; variable ``success`` [1], 1 when the
+  controller after that episode swings the pendulum up and keeps it upright in an
+  evaluation rollout, 0 when not, NaN where it was not evaluated.
+
+Timings (``table7_1``) are decided as measurements (rule 8 of :mod:`thesis.claims.stats`)
+on the geometric mean of the ratios over every configuration present.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import paper
+from thesis.claims import stats
+from thesis.claims.types import Claim, LayoutError, Results, Verdict, pick, variable
+
+BALL = "ch7/ball"
+T71 = "ch7/table7_1"
+ARM1 = "ch7/arm_fixed"
+ARM2 = "ch7/arm_random"
+GAIT = "ch7/quadruped_gait"
+PEND = "ch7/pendulum_pixels"
+#: "significant acceleration" from batching: per-robot time at the largest batch at most
+#: half that at batch 1 (a factor-2 speed-up; the thesis's GPU factor is about 70).
+BATCH_SPEEDUP = 0.5
+
+
+def _ball(results: Results, name: str) -> Verdict:
+    da = variable(results, BALL, name, dims=("method",))
+    per = stats.per_seed(pick(da, method=["gradient", "cmaes"]), keep=("method",))
+    return stats.decide_beats(per.sel(method="gradient").values, per.sel(method="cmaes").values,
+                              higher_is_better=False, label_a=f"gradient_{name}",
+                              label_b=f"cmaes_{name}")
+
+
+def _timings(results: Results) -> xr.DataArray:
+    da = variable(results, T71, "seconds", dims=("device", "batch", "n_params", "gradient"))
+    extra = [d for d in da.dims if d not in ("device", "batch", "n_params", "gradient")]
+    return da.median(extra, skipna=True) if extra else da
+
+
+def _gmean(da: xr.DataArray) -> float:
+    x = np.asarray(da.values, float).ravel()
+    x = x[np.isfinite(x) & (x > 0)]
+    return float(np.exp(np.log(x).mean())) if x.size else float("nan")
+
+
+def _with_devices(t: xr.DataArray, devices: list[str]) -> xr.DataArray | None:
+    have = [str(v) for v in t["device"].values]
+    if not all(d in have for d in devices):
+        return None
+    sub = t.sel(device=devices)
+    return sub if np.isfinite(sub.values).any() else None
+
+
+def _gradient_ratio(t: xr.DataArray) -> xr.DataArray:
+    return pick(t, gradient=1).drop_vars("gradient") / pick(t, gradient=0).drop_vars("gradient")
+
+
+def gradient_overhead_small(results: Results) -> Verdict:
+    """Time with gradient / without gradient is at most the thesis's factor 10 (+25 %)."""
+    factor = paper.get("table7_1/gradient_slowdown_factor").value
+    ratio = _gradient_ratio(_timings(results))
+    v = stats.decide_measurement(_gmean(ratio), bound=factor * (1 + stats.PUBLISHED_TOLERANCE),
+                                 below=True, label="gradient_slowdown_gmean")
+    return Verdict(v.status, {**v.measured, "n_configurations": float(np.isfinite(
+        ratio.values).sum())}, v.statistic + " over (device, batch, n_params)", v.detail)
+
+
+def gradient_overhead_flat_in_params(results: Results) -> Verdict:
+    """The gradient slowdown at the most parameters is at most 1.25x that at the fewest."""
+    ratio = _gradient_ratio(_timings(results))
+    n = ratio["n_params"].values
+    if n.size < 2:
+        raise LayoutError(f"{T71} needs at least two n_params values")
+    growth = ratio.sel(n_params=n.max()) / ratio.sel(n_params=n.min())
+    v = stats.decide_measurement(_gmean(growth), bound=1 + stats.PUBLISHED_TOLERANCE, below=True,
+                                 label="slowdown_growth_gmean")
+    return Verdict(v.status, {**v.measured, "n_params_min": float(n.min()),
+                              "n_params_max": float(n.max())},
+                   v.statistic + " over (device, batch)", v.detail)
+
+
+def _no_gpu() -> Verdict:
+    return Verdict("not_run", {}, "", f"no GPU timings in {T71} (run it on a machine with a GPU)")
+
+
+def _device_ratio(results: Results, batch: str) -> tuple[float, float] | None:
+    t = _with_devices(_timings(results), ["cpu", "gpu"])
+    if t is None:
+        return None
+    b = t["batch"].values.min() if batch == "min" else t["batch"].values.max()
+    r = t.sel(device="gpu", batch=b) / t.sel(device="cpu", batch=b)
+    return _gmean(r), float(b)
+
+
+def gpu_slower_single(results: Results) -> Verdict:
+    """At the smallest batch, GPU time exceeds CPU time (geometric mean ratio > 1)."""
+    out = _device_ratio(results, "min")
+    if out is None:
+        return _no_gpu()
+    v = stats.decide_measurement(out[0], bound=1.0, below=False, label="gpu_over_cpu_gmean")
+    return Verdict(v.status, {**v.measured, "batch": out[1]}, v.statistic, v.detail)
+
+
+def gpu_faster_large_batch(results: Results) -> Verdict:
+    """At the largest batch, GPU time is below CPU time (geometric mean ratio < 1)."""
+    out = _device_ratio(results, "max")
+    if out is None:
+        return _no_gpu()
+    v = stats.decide_measurement(out[0], bound=1.0, below=True, label="gpu_over_cpu_gmean")
+    return Verdict(v.status, {**v.measured, "batch": out[1]}, v.statistic, v.detail)
+
+
+def batching_accelerates_gpu(results: Results) -> Verdict:
+    """On GPU, time per robot at the largest batch is at most half that at the smallest."""
+    t = _with_devices(_timings(results), ["gpu"])
+    if t is None:
+        return _no_gpu()
+    t = t.sel(device="gpu")
+    b = t["batch"].values
+    if b.size < 2:
+        raise LayoutError(f"{T71} needs at least two batch sizes")
+    per_robot = t / t["batch"]
+    r = per_robot.sel(batch=b.max()) / per_robot.sel(batch=b.min())
+    v = stats.decide_measurement(_gmean(r), bound=BATCH_SPEEDUP, below=True,
+                                 label="per_robot_time_ratio_gmean")
+    return Verdict(v.status, {**v.measured, "batch_min": float(b.min()),
+                              "batch_max": float(b.max())}, v.statistic, v.detail)
+
+
+def _curve(results: Results, key: str, name: str, dim: str) -> xr.DataArray:
+    return stats.per_seed(variable(results, key, name, dims=(dim,)), keep=(dim,))
+
+
+def _run_length(curve: xr.DataArray, dim: str) -> np.ndarray:
+    steps = np.asarray(curve[dim].values, float)
+    ok = np.isfinite(curve.values)
+    return np.array([steps[row].max() if row.any() else 0.0 for row in ok])
+
+
+def _budget_claim(results: Results, key: str, dim: str, paper_variable: str,
+                  thresholds: tuple[float, ...], artifact: str) -> Verdict:
+    curve = _curve(results, key, "distance", dim)
+    parts = {}
+    for thr in thresholds:
+        budget = paper.get(f"{artifact}/threshold_m={thr}/{paper_variable}").value
+        parts[f"below_{thr:g}m"] = stats.decide_within_budget(
+            stats.first_reaching(curve, dim, thr), _run_length(curve, dim), budget=budget,
+            label=f"{dim}s_to_{thr:g}m")
+    return stats.combine(parts)
+
+
+def arm_fixed_learns(results: Results) -> Verdict:
+    """Within 2x the thesis's 100 (4 cm) and 150 (1 cm) evaluations, on every seed."""
+    return _budget_claim(results, ARM1, "evaluation", "evaluations", (0.04, 0.01), "arm_fixed")
+
+
+def arm_random_learns(results: Results) -> Verdict:
+    """Within 2x the thesis's 576 (10 cm) and 2563 (5 cm) updates, on every seed."""
+    return _budget_claim(results, ARM2, "update", "updates", (0.1, 0.05), "arm_random")
+
+
+def quadruped_gait_learns(results: Results) -> Verdict:
+    """After at most 500 evaluations the gait is faster than the thesis's hand-tuned 0.7 m/s."""
+    budget = paper.get("quadruped_gait/evaluations").value
+    hand = paper.get("quadruped_gait/hand_tuned_speed").value
+    curve = _curve(results, GAIT, "speed", "evaluation")
+    ev = np.asarray(curve["evaluation"].values, float)
+    within = curve.isel(evaluation=np.flatnonzero(ev <= budget))
+    final = np.array([row[np.isfinite(row)][-1] if np.isfinite(row).any() else np.nan
+                      for row in within.values])
+    v = stats.decide_threshold(final, bound=hand, below=False, label="speed_at_budget")
+    measured = {**v.measured, "last_evaluation": float(ev.max()), "budget": budget}
+    if v.status != "reproduced" and ev.max() < budget:
+        return Verdict("inconclusive", measured, v.statistic,
+                       f"run ended after {ev.max():g} < {budget:g} evaluations; " + v.detail)
+    return Verdict(v.status, measured, v.statistic, v.detail)
+
+
+def pendulum_learns(results: Results) -> Verdict:
+    """Swing-up and balance from pixels within 2x the thesis's 2420 episodes, every seed."""
+    budget = paper.get("pendulum_pixels/episodes").value
+    curve = _curve(results, PEND, "success", "episode")
+    reached = stats.first_reaching(1.0 - curve, "episode", 0.5)
+    return stats.decide_within_budget(reached, _run_length(curve, "episode"), budget=budget,
+                                      label="episodes_to_success")
+
+
+_T71 = tuple(f"table7_1/device={d}/batch={b}/n_params={n}/gradient={g}/seconds"
+             for d in ("cpu", "gpu") for b in (1, 128) for n in (1296, 1147904) for g in (0, 1))
+_SEC = (f"{T71}:seconds",)
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim(
+        id="ch7.gradient_needs_fewer_iterations", chapter=7, section="§7.5",
+        quote="We also show that using gradient descent with BPTT speeds up optimization "
+              "processes often found in robotics, even for rather small problems, due to the "
+              "reduced number of model evaluations required.",
+        summary="Ball throw: gradient descent needs fewer iterations than CMA-ES (rule 4).",
+        paper_keys=("ball/method=gradient/iterations", "ball/method=cmaes/iterations"),
+        requires=(BALL,), reads=(f"{BALL}:iterations",),
+        fn=lambda r: _ball(r, "iterations"),
+    ),
+    Claim(
+        id="ch7.gradient_faster_wall_clock", chapter=7, section="§7.2.1",
+        quote="Even when taking the time to compute the gradient into account, the optimization "
+              "with gradient descent takes 16.3 s, compared to 59.9 s with CMA-ES.",
+        summary="Ball throw: gradient descent takes less wall-clock time than CMA-ES (rule 4).",
+        paper_keys=("ball/method=gradient/wall_seconds", "ball/method=cmaes/wall_seconds"),
+        requires=(BALL,), reads=(f"{BALL}:wall_seconds",),
+        fn=lambda r: _ball(r, "wall_seconds"),
+    ),
+    Claim(
+        id="ch7.gradient_costs_small_factor", chapter=7, section="§7.3.1",
+        quote="Although backpropagating the gradient through physics slows down the "
+              "computations by roughly a factor 10",
+        summary="Geometric mean over configurations of time with / without gradient is at most "
+                "10 x 1.25 (rule 8).",
+        paper_keys=("table7_1/gradient_slowdown_factor", *_T71),
+        requires=(T71,), reads=_SEC, fn=gradient_overhead_small,
+    ),
+    Claim(
+        id="ch7.gradient_cost_nearly_independent_of_parameters", chapter=7, section="§7.3.1",
+        quote="this factor only barely increases with the number of parameters in our "
+              "controller.",
+        summary="The gradient slowdown at the largest controller is at most 1.25x that at the "
+                "smallest (geometric mean over device and batch, rule 8).",
+        paper_keys=_T71, requires=(T71,), reads=_SEC, fn=gradient_overhead_flat_in_params,
+    ),
+    Claim(
+        id="ch7.gpu_slower_for_single_robot", chapter=7, section="§7.3.1",
+        quote="When only a single controller is optimized, our engine runs more slowly on GPU "
+              "than on CPU.",
+        summary="At batch 1, GPU time / CPU time > 1 (geometric mean, rule 8).",
+        paper_keys=_T71, requires=(T71,), reads=_SEC, fn=gpu_slower_single,
+    ),
+    Claim(
+        id="ch7.batching_accelerates_gpu", chapter=7, section="§7.3.1",
+        quote="In this case, by batching our robot models, we achieve significant acceleration "
+              "on GPU.",
+        summary="On GPU, time per robot at the largest batch is below 0.5x that at batch 1 "
+                "(geometric mean, rule 8).",
+        paper_keys=_T71, requires=(T71,), reads=_SEC, fn=batching_accelerates_gpu,
+    ),
+    Claim(
+        id="ch7.gpu_speeds_up_large_batches", chapter=7, section="§7.5",
+        quote="we show that using GPUs to simulate the physics can speed up the process for "
+              "large batches of robots.",
+        summary="At the largest batch, GPU time / CPU time < 1 (geometric mean, rule 8).",
+        paper_keys=_T71, requires=(T71,), reads=_SEC, fn=gpu_faster_large_batch,
+    ),
+    Claim(
+        id="ch7.arm_fixed_point_learned_quickly", chapter=7, section="§7.3.2.1",
+        quote="We find that the controller comes within 4 cm of the target in 100 model "
+              "evaluations, and within 1 cm in 150 model evaluations",
+        summary="Every seed's arm comes within 4 cm by 200 and within 1 cm by 300 evaluations "
+                "(2x the thesis's counts, rule 7).",
+        paper_keys=("arm_fixed/threshold_m=0.04/evaluations",
+                    "arm_fixed/threshold_m=0.01/evaluations", "arm_fixed/n_params"),
+        requires=(ARM1,), reads=(f"{ARM1}:distance",), fn=arm_fixed_learns,
+    ),
+    Claim(
+        id="ch7.cmaes_fails_on_arm", chapter=7, section="§7.3.2.1",
+        quote="After a week of computing and 60 000 model evaluations, CMA-ES did not show any "
+              "sign of convergence, as it cannot handle the sheer amount of parameters.",
+        summary="CMA-ES on the fixed-point arm task does not converge in 60 000 evaluations "
+                "(experiment not built).",
+        paper_keys=("arm_fixed/cmaes_evaluations_without_convergence",),
+        requires=("ch7/arm_fixed_cmaes",),
+    ),
+    Claim(
+        id="ch7.scales_to_millions_of_parameters", chapter=7, section="§7.5",
+        quote="We show that this improvement in speed scales to problems with a lot of "
+              "parameters.",
+        summary="Random-target arm with the 2.1M-parameter controller: every seed's mean "
+                "distance falls below 10 cm by 1152 and 5 cm by 5126 updates (2x, rule 7).",
+        paper_keys=("arm_random/threshold_m=0.1/updates", "arm_random/threshold_m=0.05/updates",
+                    "arm_random/n_params"),
+        requires=(ARM2,), reads=(f"{ARM2}:distance",), fn=arm_random_learns,
+    ),
+    Claim(
+        id="ch7.quadruped_gait_in_500_evaluations", chapter=7, section="§7.3.3",
+        quote="In only 500 model evaluations or about 1 hour of optimizing on CPU, the "
+              "optimization with BPTT comes up with a solution with a speed of 1.17 m/s.",
+        summary="Speed of the controller at evaluation 500 exceeds the thesis's hand-tuned trot "
+                "(0.7 m/s) (rule 6).",
+        paper_keys=("quadruped_gait/evaluations", "quadruped_gait/evaluations=500/speed",
+                    "quadruped_gait/hand_tuned_speed"),
+        requires=(GAIT,), reads=(f"{GAIT}:speed",), fn=quadruped_gait_learns,
+    ),
+    Claim(
+        id="ch7.vision_control_learned_through_camera", chapter=7, section="§7.5",
+        quote="We show that even complex sensors such as cameras, can be implemented and "
+              "differentiated through, allowing for computer vision to be learned together "
+              "with a control policy.",
+        summary="Pendulum-cart from pixels: every seed swings up and balances within 2x 2420 "
+                "episodes (rule 7).",
+        paper_keys=("pendulum_pixels/episodes", "pendulum_pixels/n_params"),
+        requires=(PEND,), reads=(f"{PEND}:success",), fn=pendulum_learns,
+    ),
+)

@@ -1,0 +1,110 @@
+"""Claims of §8.1, the dissertation's conclusions per chapter.
+
+Each restates a chapter's result in new words; where that chapter's check exists it is
+reused (same data, same rule), so a §8.1 verdict never disagrees with the chapter's own
+claim for the same reason. Claims on chapters 4 to 6 are placeholders until those
+experiments exist.
+"""
+
+from __future__ import annotations
+
+from thesis.claims import ch2, ch3, ch7
+from thesis.claims.types import Claim
+
+CLAIMS: tuple[Claim, ...] = (
+    Claim(
+        id="ch8.ch2_prior_in_architecture_beats_cnn", chapter=8, section="§8.1",
+        quote="We showed that this approach indeed outperforms standard convolutional neural "
+              "networks.",
+        summary="Chirp-Z spatial transformer (mean over model and d) has lower test error than "
+                "the plain network (rule 4).",
+        paper_keys=tuple(f"table2_2/model={m}/d={d}/transform={t}/test_error"
+                         for m in ("ffn_spn", "rnn_spn") for d in (1, 2, 3)
+                         for t in ("chirp_z", "none")),
+        requires=(ch2.KEY,), reads=ch2.READS,
+        fn=lambda r: ch2.spatial_beats_plain(r, ["chirp_z"]),
+    ),
+    Claim(
+        id="ch8.ch3_biological_trajectory_beats_sine", chapter=8, section="§8.1",
+        quote="Firstly, we observed that a more biologically inspired trajectory outperforms a "
+              "sine-based approach, especially for higher speeds.",
+        summary="Half-ellipse and spline gaits are both faster than the sine gait above 1 Hz "
+                "(rule 4 for each).",
+        paper_keys=(ch3.KNEE_KEY, "fig3_4/gait=sine/speed_compared",
+                    "fig3_4/gait=half_ellipse/speed_compared",
+                    "fig3_4/gait=spline/frequency=1.5/speed"),
+        requires=(ch3.FIG,), reads=(f"{ch3.FIG}:speed",),
+        fn=ch3.trajectories_beat_sine_high_speed,
+    ),
+    Claim(
+        id="ch8.ch3_scapulae_help_maintain_speed", chapter=8, section="§8.1",
+        quote="Secondly, we showed that having scapulae for turning helps maintain speed, "
+              "although it is also possible for legged robots to turn without.",
+        summary="Turning speed with the scapulae exceeds that of step-size turning (rule 4).",
+        paper_keys=("table3_2/strategy=step_size/speed", "table3_2/strategy=scapulae/speed"),
+        requires=(ch3.TURN,), reads=(f"{ch3.TURN}:speed",), fn=ch3.scapulae_keep_speed,
+    ),
+    Claim(
+        id="ch8.ch4_transfer_better_except_rocky", chapter=8, section="§8.1",
+        quote="Although an important footnote, in one of the cases the warm start did not make "
+              "a significant difference, namely when transfer learning from a flat terrain to a "
+              "rocky one.",
+        summary="Transfer significantly better on slopes and with compliant legs, not "
+                "significantly different on pebbles.",
+        paper_keys=("fig4_5/grade=9/p_value_upper_bound", "fig4_5/grade=18/p_value_upper_bound",
+                    "fig4_7/p_value_upper_bound", "fig4_8/p_value_lower_bound"),
+        requires=("ch4/fig4_5", "ch4/fig4_7", "ch4/fig4_8"),
+    ),
+    Claim(
+        id="ch8.ch4_reduced_exploration", chapter=8, section="§8.1",
+        quote="We found that the main aspect which made these warm starts perform better was "
+              "the reduced amount of exploration in the parameter space.",
+        summary="Search-space size per generation is smaller with warm starts.",
+        paper_keys=("fig4_10/search_space_ratio",), requires=("ch4/fig4_10",),
+    ),
+    Claim(
+        id="ch8.ch5_memory_important", chapter=8, section="§8.1",
+        quote="More interestingly, from the comparison of extreme learning machines to "
+              "reservoirs, it seems clear that memory is an important element.",
+        summary="Reservoirs (with memory) beat leaky ELMs (without) when few sensors are used.",
+        paper_keys=("table5_4/selection=touch/rc_minus_elm_accuracy",),
+        requires=("ch5/table5_4",),
+    ),
+    Claim(
+        id="ch8.ch6_stable_trot_in_few_periods_without_memory", chapter=8, section="§8.1",
+        quote="We demonstrated that in as little as a couple of periods of the gait, this "
+              "system already finds stable feedback control parameters for trotting without "
+              "requiring any memory.",
+        summary="With B = 0 and H = 250, two gait periods of training per stage give a stable "
+                "trot.",
+        paper_keys=("minimal_training/stage_seconds", "minimal_training/hidden_neurons"),
+        requires=("ch6/minimal_training",),
+    ),
+    Claim(
+        id="ch8.ch6_signal_count_most_important", chapter=8, section="§8.1",
+        quote="We found that the most important factor is the number of signals fed to the "
+              "linear transformation.",
+        summary="Training MSE and stability are governed by N = (B + 1) H + 1.",
+        requires=("ch6/fig6_6",),
+    ),
+    Claim(
+        id="ch8.ch7_pendulum_from_pixels", chapter=8, section="§8.1",
+        quote="By using backpropagation through time, through physics and through the "
+              "renderer, we were able to find a deep neural network controller for the inverted "
+              "pendulum from pixels.",
+        summary="Pendulum-cart from pixels: every seed swings up and balances within 2x 2420 "
+                "episodes (rule 7).",
+        paper_keys=("pendulum_pixels/episodes",),
+        requires=(ch7.PEND,), reads=(f"{ch7.PEND}:success",), fn=ch7.pendulum_learns,
+    ),
+    Claim(
+        id="ch8.ch7_gait_in_500_evaluations", chapter=8, section="§8.1",
+        quote="For a quadruped legged robot model, we were able to use deep neural networks to "
+              "find a stable gait in only 500 model evaluations.",
+        summary="Speed at evaluation 500 exceeds the thesis's hand-tuned trot, 0.7 m/s "
+                "(rule 6).",
+        paper_keys=("quadruped_gait/evaluations_to_stable_gait",
+                    "quadruped_gait/hand_tuned_speed"),
+        requires=(ch7.GAIT,), reads=(f"{ch7.GAIT}:speed",), fn=ch7.quadruped_gait_learns,
+    ),
+)

@@ -1,0 +1,309 @@
+"""The statistics every claim uses, with one set of rules for the whole pipeline.
+
+Rules (applied uniformly by the decision helpers below):
+
+1. **Unit of replication is the seed.** A check first reduces a dataset to one value per
+   seed (:func:`per_seed` averages every other dimension it does not compare).
+2. **Fewer than** :data:`MIN_SEEDS` **(3) seeds -> inconclusive**, whatever the numbers.
+3. **Interval:** mean over seeds with a 95 % bootstrap interval
+   (:func:`bootstrap_mean`: ``scipy.stats.bootstrap``, :data:`N_RESAMPLES` resamples,
+   seeded generator :data:`BOOTSTRAP_SEED`; BCa when it is defined, the percentile
+   interval when BCa fails or n < 3; a zero-width interval when all values are equal).
+4. **"A beats B"** (:func:`decide_beats`): on paired per-seed differences in the claimed
+   direction, *reproduced* when the interval lies above 0, *not_reproduced* when it lies
+   below 0 or when the mean difference opposes the claim with a two-sided Wilcoxon
+   signed-rank p < 0.05, *inconclusive* otherwise.
+5. **"A is like B"** (:func:`decide_equivalent`): *reproduced* when the interval of the
+   difference lies inside ``(-margin, margin)``, *not_reproduced* when it lies entirely
+   outside, *inconclusive* otherwise.
+6. **"X is below/above a bound"** (:func:`decide_threshold`): the same with one bound.
+7. **Comparisons with a published number** allow a relative tolerance of
+   :data:`PUBLISHED_TOLERANCE` (25 %); **counts of evaluations or updates** allow a
+   factor :data:`BUDGET_FACTOR` (2) over the thesis's count (:func:`decide_within_budget`).
+8. **Timings** are measurements, not seeded outcomes: :func:`decide_measurement` compares
+   the median over repeats with the bound, without an interval.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+from scipy import stats as sps
+
+from thesis.claims.types import Verdict
+
+MIN_SEEDS = 3
+CONFIDENCE = 0.95
+N_RESAMPLES = 9999
+BOOTSTRAP_SEED = 20180101
+ALPHA = 0.05
+PUBLISHED_TOLERANCE = 0.25
+BUDGET_FACTOR = 2.0
+
+
+@dataclass(frozen=True)
+class Interval:
+    """Mean over seeds with a bootstrap interval.
+
+    Attributes:
+        mean: sample mean of the finite values.
+        low, high: interval bounds (NaN when n < 2).
+        n: number of finite values.
+        method: ``"BCa"``, ``"percentile"``, ``"degenerate"`` (all equal), ``"single"``
+            or ``"none"`` (no values).
+    """
+
+    mean: float
+    low: float
+    high: float
+    n: int
+    method: str
+
+
+def _finite(values: Sequence[float] | np.ndarray) -> np.ndarray:
+    x = np.asarray(values, dtype=float).ravel()
+    return x[np.isfinite(x)]
+
+
+def bootstrap_mean(values, *, confidence: float = CONFIDENCE, n_resamples: int = N_RESAMPLES,
+                   seed: int = BOOTSTRAP_SEED) -> Interval:
+    """Mean of ``values`` (1-D, one per seed; NaN dropped) and its bootstrap interval."""
+    x = _finite(values)
+    n = x.size
+    if n == 0:
+        return Interval(np.nan, np.nan, np.nan, 0, "none")
+    mean = float(x.mean())
+    if n == 1:
+        return Interval(mean, np.nan, np.nan, 1, "single")
+    if np.ptp(x) == 0:
+        return Interval(mean, mean, mean, n, "degenerate")
+    methods = ("BCa", "percentile") if n >= MIN_SEEDS else ("percentile",)
+    for method in methods:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                res = sps.bootstrap((x,), np.mean, confidence_level=confidence,
+                                    n_resamples=n_resamples, method=method,
+                                    rng=np.random.default_rng(seed))
+            except (ValueError, FloatingPointError):
+                continue
+        lo, hi = float(res.confidence_interval.low), float(res.confidence_interval.high)
+        if np.isfinite(lo) and np.isfinite(hi):
+            return Interval(mean, lo, hi, n, method)
+    return Interval(mean, np.nan, np.nan, n, "none")
+
+
+def wilcoxon_paired(a, b, alternative: str = "two-sided") -> float:
+    """p-value of the Wilcoxon signed-rank test on paired ``a - b`` (NaN pairs dropped).
+
+    Returns 1.0 when every difference is zero and NaN with no pairs.
+    """
+    a, b = np.asarray(a, float).ravel(), np.asarray(b, float).ravel()
+    ok = np.isfinite(a) & np.isfinite(b)
+    d = a[ok] - b[ok]
+    if d.size == 0:
+        return float("nan")
+    if np.all(d == 0):
+        return 1.0
+    return float(sps.wilcoxon(d, alternative=alternative).pvalue)
+
+
+def mann_whitney(a, b, alternative: str = "two-sided") -> float:
+    """p-value of the Mann-Whitney U (Wilcoxon rank-sum) test of independent ``a``, ``b``."""
+    a, b = _finite(a), _finite(b)
+    if a.size == 0 or b.size == 0:
+        return float("nan")
+    return float(sps.mannwhitneyu(a, b, alternative=alternative).pvalue)
+
+
+def fisher_combine(pvalues) -> float:
+    """Fisher's method: one p-value from independent p-values (as §4.6 combines generations)."""
+    p = _finite(pvalues)
+    if p.size == 0:
+        return float("nan")
+    return float(sps.combine_pvalues(p, method="fisher").pvalue)
+
+
+def per_seed(da: xr.DataArray, keep: Sequence[str] = ()) -> xr.DataArray:
+    """Average every dimension except ``seed`` and ``keep`` (NaN skipped).
+
+    A dataset without a ``seed`` dimension gives one pseudo-seed, so it counts as n = 1.
+    Returns a DataArray with dims ``("seed", *keep)``.
+    """
+    if "seed" not in da.dims:
+        da = da.expand_dims(seed=[0])
+    other = [d for d in da.dims if d not in ("seed", *keep)]
+    if other:
+        da = da.mean(other, skipna=True)
+    return da.transpose("seed", *keep)
+
+
+def _too_few(n: int, measured: dict, statistic: str) -> Verdict | None:
+    if n < MIN_SEEDS:
+        return Verdict("inconclusive", measured, statistic,
+                       f"only {n} seed(s) with values; at least {MIN_SEEDS} are needed")
+    return None
+
+
+def decide_beats(a, b, *, higher_is_better: bool, label_a: str = "a",
+                 label_b: str = "b") -> Verdict:
+    """Decide "A beats B" from paired per-seed values ``a`` and ``b`` (rule 4).
+
+    ``a[i]`` and ``b[i]`` belong to the same seed; pairs with a NaN are dropped.
+    """
+    a, b = np.asarray(a, float).ravel(), np.asarray(b, float).ravel()
+    ok = np.isfinite(a) & np.isfinite(b)
+    a, b = a[ok], b[ok]
+    sign = 1.0 if higher_is_better else -1.0
+    adv = sign * (a - b)  # > 0 where A is better
+    ci = bootstrap_mean(adv)
+    p = wilcoxon_paired(a, b)
+    better = "higher" if higher_is_better else "lower"
+    statistic = (f"paired per-seed advantage of {label_a} over {label_b} ({better} is better): "
+                 f"mean with {int(CONFIDENCE * 100)} % bootstrap interval ({ci.method}); "
+                 "two-sided Wilcoxon signed-rank p")
+    measured = {f"mean_{label_a}": float(a.mean()) if a.size else np.nan,
+                f"mean_{label_b}": float(b.mean()) if b.size else np.nan,
+                "advantage_mean": ci.mean, "advantage_ci_low": ci.low,
+                "advantage_ci_high": ci.high, "n_seeds": ci.n, "wilcoxon_p": p}
+    few = _too_few(ci.n, measured, statistic)
+    if few:
+        return few
+    if ci.low > 0:
+        return Verdict("reproduced", measured, statistic,
+                       f"{label_a} is better than {label_b}: interval of the advantage above 0")
+    if ci.high < 0:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"{label_b} is better than {label_a}: interval of the advantage below 0")
+    if ci.mean < 0 and p < ALPHA:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"{label_b} is better than {label_a} (Wilcoxon p = {p:.3g})")
+    return Verdict("inconclusive", measured, statistic,
+                   "the interval of the advantage includes 0")
+
+
+def decide_equivalent(diff, *, margin: float, label: str = "difference") -> Verdict:
+    """Decide "equivalent within ``margin``" from per-seed differences ``diff`` (rule 5)."""
+    ci = bootstrap_mean(diff)
+    statistic = (f"per-seed {label}: mean with {int(CONFIDENCE * 100)} % bootstrap interval "
+                 f"({ci.method}) against the equivalence margin +-{margin:g}")
+    measured = {f"{label}_mean": ci.mean, f"{label}_ci_low": ci.low,
+                f"{label}_ci_high": ci.high, "margin": margin, "n_seeds": ci.n}
+    few = _too_few(ci.n, measured, statistic)
+    if few:
+        return few
+    if -margin < ci.low and ci.high < margin:
+        return Verdict("reproduced", measured, statistic, "interval inside the margin")
+    if ci.low >= margin or ci.high <= -margin:
+        return Verdict("not_reproduced", measured, statistic, "interval outside the margin")
+    return Verdict("inconclusive", measured, statistic, "interval straddles the margin")
+
+
+def decide_threshold(values, *, bound: float, below: bool, label: str = "value") -> Verdict:
+    """Decide "the mean of ``values`` is below (``below=True``) or above ``bound``" (rule 6)."""
+    ci = bootstrap_mean(values)
+    side = "below" if below else "above"
+    statistic = (f"per-seed {label}: mean with {int(CONFIDENCE * 100)} % bootstrap interval "
+                 f"({ci.method}) {side} the bound {bound:g}")
+    measured = {f"{label}_mean": ci.mean, f"{label}_ci_low": ci.low,
+                f"{label}_ci_high": ci.high, "bound": bound, "n_seeds": ci.n}
+    few = _too_few(ci.n, measured, statistic)
+    if few:
+        return few
+    good, bad = (ci.high < bound, ci.low > bound) if below else (ci.low > bound, ci.high < bound)
+    if good:
+        return Verdict("reproduced", measured, statistic, f"interval {side} {bound:g}")
+    if bad:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"interval on the wrong side of {bound:g}")
+    return Verdict("inconclusive", measured, statistic, f"interval contains {bound:g}")
+
+
+def decide_measurement(value: float, *, bound: float, below: bool, label: str) -> Verdict:
+    """Decide a timing-like measurement (median over repeats) against ``bound`` (rule 8)."""
+    side = "below" if below else "above"
+    statistic = f"{label} (median over repeats, a measurement without interval) {side} {bound:g}"
+    measured = {label: value, "bound": bound}
+    if not np.isfinite(value):
+        return Verdict("inconclusive", measured, statistic, f"{label} is not finite")
+    ok = value < bound if below else value > bound
+    return Verdict("reproduced" if ok else "not_reproduced", measured, statistic,
+                   f"{label} = {value:.3g} is {'' if ok else 'not '}{side} {bound:g}")
+
+
+def first_reaching(curve: xr.DataArray, dim: str, threshold: float) -> np.ndarray:
+    """Per seed, the first coordinate of ``dim`` where ``curve < threshold`` (NaN if never).
+
+    ``curve`` has dims ``("seed", dim)``; coordinates of ``dim`` count evaluations/updates.
+    """
+    steps = np.asarray(curve[dim].values, dtype=float)
+    below = np.asarray(curve.values < threshold)
+    out = np.full(below.shape[0], np.nan)
+    for i, row in enumerate(below):
+        hit = np.flatnonzero(row)
+        if hit.size:
+            out[i] = steps[hit[0]]
+    return out
+
+
+def decide_within_budget(reached_at, run_length, *, budget: float, label: str,
+                         factor: float = BUDGET_FACTOR) -> Verdict:
+    """Decide "reached within ``budget`` evaluations" from per-seed counts (rule 7).
+
+    ``reached_at[i]`` is the count at which seed i first met the target (NaN if never);
+    ``run_length[i]`` the last count the run reached. A seed *succeeds* when it reached the
+    target within ``factor * budget``; it *fails* when it did not although it ran that long;
+    otherwise it is *censored* (the run stopped too early to tell). Reproduced when at
+    least :data:`MIN_SEEDS` seeds exist and all succeed; not_reproduced when more than half
+    fail; inconclusive otherwise.
+    """
+    reached_at = np.asarray(reached_at, float).ravel()
+    run_length = np.asarray(run_length, float).ravel()
+    limit = factor * budget
+    success = np.isfinite(reached_at) & (reached_at <= limit)
+    fail = ~success & (run_length >= limit)
+    n = reached_at.size
+    statistic = (f"per-seed count to reach the target; success within {factor:g} x the "
+                 f"thesis's {budget:g} = {limit:g}")
+    measured = {"n_seeds": n, "n_success": int(success.sum()), "n_fail": int(fail.sum()),
+                "n_censored": int(n - success.sum() - fail.sum()), "budget": budget,
+                "limit": limit,
+                f"{label}_median": float(np.nanmedian(reached_at)) if np.isfinite(
+                    reached_at).any() else np.nan}
+    if fail.sum() * 2 > n:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"{int(fail.sum())} of {n} seeds missed the target within {limit:g}")
+    few = _too_few(n, measured, statistic)
+    if few:
+        return few
+    if success.all():
+        return Verdict("reproduced", measured, statistic,
+                       f"all {n} seeds reached the target within {limit:g}")
+    return Verdict("inconclusive", measured, statistic,
+                   "some seeds missed the target or stopped before the limit")
+
+
+def combine(parts: dict[str, Verdict], *, statistic: str = "") -> Verdict:
+    """All parts must hold: reproduced if all are, not_reproduced if any is, else the rest.
+
+    ``not_run`` parts make the whole ``not_run``; measured numbers are prefixed by part name.
+    """
+    statuses = [v.status for v in parts.values()]
+    if "not_run" in statuses:
+        status = "not_run"
+    elif "not_reproduced" in statuses:
+        status = "not_reproduced"
+    elif all(s == "reproduced" for s in statuses):
+        status = "reproduced"
+    else:
+        status = "inconclusive"
+    measured = {f"{name}.{k}": v for name, verdict in parts.items()
+                for k, v in verdict.measured.items()}
+    detail = "; ".join(f"{name}: {v.status} ({v.detail})" for name, v in parts.items())
+    stat = statistic or "all of: " + "; ".join(
+        f"{name}: {v.statistic}" for name, v in parts.items())
+    return Verdict(status, measured, stat, detail)
