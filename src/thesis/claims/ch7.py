@@ -46,7 +46,9 @@ BATCH_SPEEDUP = 0.5
 def _ball(results: Results, name: str) -> Verdict:
     da = variable(results, BALL, name, dims=("method",))
     per = stats.per_seed(pick(da, method=["gradient", "cmaes"]), keep=("method",))
-    return stats.decide_beats(per.sel(method="gradient").values, per.sel(method="cmaes").values,
+    # dict form of sel: ``sel(method=...)`` would be xarray's matching-method argument
+    return stats.decide_beats(per.sel({"method": "gradient"}).values,
+                              per.sel({"method": "cmaes"}).values,
                               higher_is_better=False, label_a=f"gradient_{name}",
                               label_b=f"cmaes_{name}")
 
@@ -68,7 +70,8 @@ def _with_devices(t: xr.DataArray, devices: list[str]) -> xr.DataArray | None:
     if not all(d in have for d in devices):
         return None
     sub = t.sel(device=devices)
-    return sub if np.isfinite(sub.values).any() else None
+    finite = [np.isfinite(sub.sel(device=d).values).any() for d in devices]
+    return sub if all(finite) else None
 
 
 def _gradient_ratio(t: xr.DataArray) -> xr.DataArray:

@@ -137,7 +137,7 @@ def pick(da: xr.DataArray, **coords: object) -> xr.DataArray:
         absent = [v for v in values if v not in have]
         if absent:
             raise LayoutError(f"{da.name!r} lacks {dim}={absent} (has {have})")
-    return da.sel(**coords)
+    return da.sel(coords)  # dict form: a dim named 'method' must not hit sel(method=...)
 
 
 def as_fraction(da: xr.DataArray) -> xr.DataArray:

@@ -1,0 +1,92 @@
+"""Chapter-2 claims decided on synthetic ``ch2/table2_2`` datasets built here."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import claims
+
+MODELS = ["ffn_spn", "rnn_spn"]
+TRANSFORMS = ["bilinear", "bilinear_no_skew", "chirp_z", "none"]
+
+
+def table2_2(means: dict[str, float], *, seeds: int = 5, rnn_gain: float = 0.005,
+             noise: float = 0.001, units: str = "1") -> xr.Dataset:
+    """Per-digit test error over (seed, model, d, transform) around ``means`` (fractions)."""
+    rng = np.random.default_rng(0)
+    base = np.array([means[t] for t in TRANSFORMS])
+    err = np.empty((seeds, 2, 3, 4))
+    for m in range(2):
+        err[:, m] = base - m * rnn_gain * (np.arange(4) < 3)
+    err = err + noise * rng.standard_normal(err.shape)
+    if units == "percent":
+        err = err * 100
+    da = xr.DataArray(err, dims=("seed", "model", "d", "transform"),
+                      coords={"seed": np.arange(seeds), "model": MODELS, "d": [1, 2, 3],
+                              "transform": TRANSFORMS},
+                      attrs={"units": units, "long_name": "per-digit test error"})
+    return xr.Dataset({"test_error": da}, attrs={"thesis_ref": "Tab. 2.2"})
+
+
+GOOD = {"bilinear": 0.030, "bilinear_no_skew": 0.036, "chirp_z": 0.037, "none": 0.078}
+
+
+def status(claim_id: str, ds: xr.Dataset | None) -> claims.Verdict:
+    return claims.get(claim_id).check({} if ds is None else {"ch2/table2_2": ds})
+
+
+def test_spatial_beats_plain_reproduced_and_not():
+    assert status("ch2.spatial_transformers_beat_plain", table2_2(GOOD)).status == "reproduced"
+    flipped = {**GOOD, "none": 0.01}
+    v = status("ch2.spatial_transformers_beat_plain", table2_2(flipped))
+    assert v.status == "not_reproduced"
+    assert v.measured["mean_none"] < v.measured["mean_spatial"]
+
+
+def test_units_percent_equal_fraction():
+    a = status("ch2.spatial_transformers_beat_plain", table2_2(GOOD))
+    b = status("ch2.spatial_transformers_beat_plain", table2_2(GOOD, units="percent"))
+    assert a.status == b.status
+    np.testing.assert_allclose(a.measured["advantage_mean"], b.measured["advantage_mean"])
+
+
+def test_chirpz_equivalence():
+    v = status("ch2.chirpz_similar_to_bilinear_no_skew", table2_2(GOOD))
+    assert v.status == "reproduced"
+    far = {**GOOD, "chirp_z": 0.060}
+    assert status("ch2.chirpz_similar_to_bilinear_no_skew", table2_2(far)).status == (
+        "not_reproduced")
+    noisy = {**GOOD, "chirp_z": 0.044}
+    assert status("ch2.chirpz_similar_to_bilinear_no_skew",
+                  table2_2(noisy, noise=0.02)).status == "inconclusive"
+
+
+def test_recurrent_beats_feedforward():
+    assert status("ch2.recurrent_beats_feedforward", table2_2(GOOD)).status == "reproduced"
+    assert status("ch2.recurrent_beats_feedforward",
+                  table2_2(GOOD, rnn_gain=-0.01)).status == "not_reproduced"
+
+
+def test_chirpz_published_error():
+    v = status("ch2.chirpz_reaches_1_8_percent", table2_2({**GOOD, "chirp_z": 0.02}))
+    assert v.status == "reproduced" and v.measured["best_model"] == "rnn_spn"
+    assert status("ch2.chirpz_reaches_1_8_percent", table2_2(GOOD)).status == "not_reproduced"
+
+
+def test_few_seeds_missing_data_and_layout():
+    v = status("ch2.spatial_transformers_beat_plain", table2_2(GOOD, seeds=2))
+    assert v.status == "inconclusive"
+    missing = status("ch2.spatial_transformers_beat_plain", None)
+    assert missing.status == "not_run" and "ch2/table2_2" in missing.detail
+    no_var = table2_2(GOOD).rename({"test_error": "error"})
+    v = status("ch2.spatial_transformers_beat_plain", no_var)
+    assert v.status == "not_run" and "layout mismatch" in v.detail
+    no_none = table2_2(GOOD).sel(transform=["bilinear", "chirp_z"])
+    assert "layout mismatch" in status("ch2.spatial_transformers_beat_plain", no_none).detail
+
+
+def test_section_8_reuses_chapter_check():
+    v = claims.get("ch8.ch2_prior_in_architecture_beats_cnn").check(
+        {"ch2/table2_2": table2_2(GOOD)})
+    assert v.status == "reproduced" and "mean_error_chirp_z" in v.measured

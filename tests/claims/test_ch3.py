@@ -1,0 +1,99 @@
+"""Chapter-3 claims decided on synthetic fig3_4, robustness and table3_2 datasets."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import claims
+
+GAITS = ["sine", "half_ellipse", "spline"]
+STRATEGIES = ["step_size", "step_speed", "step_size_constant_speed", "torque", "scapulae"]
+FREQ = np.array([0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0])
+
+
+def fig3_4(seeds: int = 4, sine_knee: float = 1.0, ellipse_gain: float = 0.14,
+           spline_gain: float = 0.2) -> xr.Dataset:
+    rng = np.random.default_rng(3)
+    sine = 0.2 * np.minimum(FREQ, sine_knee) + 0.01 * np.maximum(FREQ - sine_knee, 0)
+    speeds = np.stack([sine, ellipse_gain * FREQ, spline_gain * FREQ])
+    sp = speeds[None] + 0.003 * rng.standard_normal((seeds, 3, FREQ.size))
+    da = xr.DataArray(sp, dims=("seed", "gait", "frequency"),
+                      coords={"seed": np.arange(seeds), "gait": GAITS, "frequency": FREQ},
+                      attrs={"units": "m/s", "long_name": "forward speed"})
+    return xr.Dataset({"speed": da})
+
+
+def robustness(fractions, seeds: int = 4) -> xr.Dataset:
+    rng = np.random.default_rng(4)
+    f = np.array(fractions)[None, :, None] + 0.02 * rng.standard_normal((seeds, 3, 6))
+    da = xr.DataArray(f, dims=("seed", "gait", "perturbation"),
+                      coords={"seed": np.arange(seeds), "gait": GAITS},
+                      attrs={"units": "1", "long_name": "fraction still walking"})
+    return xr.Dataset({"fraction_walking": da})
+
+
+def table3_2(seeds: int = 4, scap_speed: float = 0.22, step_speed: float = 0.07) -> xr.Dataset:
+    rng = np.random.default_rng(5)
+    def var(values, noise, units):
+        v = np.array(values)[None] + noise * rng.standard_normal((seeds, len(STRATEGIES)))
+        return xr.DataArray(v, dims=("seed", "strategy"),
+                            coords={"seed": np.arange(seeds), "strategy": STRATEGIES},
+                            attrs={"units": units, "long_name": "x"})
+    return xr.Dataset({
+        "speed": var([step_speed, 0.01, 0.0, 0.0, scap_speed], 0.005, "m/s"),
+        "angular_speed": var([8.0, 0.5, 0.0, 0.0, 20.0], 0.5, "degree/s"),
+        "turning_radius": var([0.45, 9.9, 9.9, 9.9, 0.61], 0.01, "m"),
+        "stable": var([1, 0, 0, 0, 1], 0.0, "1"),
+    })
+
+
+def check(claim_id: str, **results) -> claims.Verdict:
+    return claims.get(claim_id).check({f"ch3/{k}": v for k, v in results.items()})
+
+
+def test_speed_frequency_claims():
+    ds = fig3_4()
+    assert check("ch3.half_ellipse_beats_sine_at_high_speed", fig3_4=ds).status == "reproduced"
+    assert check("ch3.sine_speed_flattens_above_1hz", fig3_4=ds).status == "reproduced"
+    assert check("ch3.spline_fastest", fig3_4=ds).status == "reproduced"
+    v = check("ch3.half_ellipse_fastest", fig3_4=ds)
+    assert v.status == "not_reproduced" and "half_ellipse_vs_spline" in v.detail
+    assert check("ch8.ch3_biological_trajectory_beats_sine", fig3_4=ds).status == "reproduced"
+
+
+def test_sine_without_knee_is_not_reproduced():
+    linear = fig3_4(sine_knee=10.0, ellipse_gain=0.1)
+    assert check("ch3.sine_speed_flattens_above_1hz", fig3_4=linear).status != "reproduced"
+    assert check("ch3.half_ellipse_beats_sine_at_high_speed", fig3_4=linear).status == (
+        "not_reproduced")
+
+
+def test_robustness_claims():
+    good = robustness([0.2, 0.9, 0.6])
+    assert check("ch3.half_ellipse_most_robust", robustness=good).status == "reproduced"
+    assert check("ch3.sine_gaits_fragile", robustness=good).status == "reproduced"
+    bad = robustness([0.9, 0.3, 0.6])
+    assert check("ch3.sine_gaits_fragile", robustness=bad).status == "not_reproduced"
+    assert check("ch3.sine_gaits_fragile", robustness=robustness([0.2, 0.9, 0.6], seeds=1)
+                 ).status == "inconclusive"
+
+
+def test_turning_claims():
+    ds = table3_2()
+    for cid in ("ch3.scapulae_needed_for_fast_turning", "ch3.turning_without_scapulae_possible",
+                "ch3.scapulae_maintain_speed", "ch3.scapulae_larger_turning_radius",
+                "ch3.three_turning_strategies_fail", "ch8.ch3_scapulae_help_maintain_speed"):
+        assert check(cid, table3_2=ds).status == "reproduced", cid
+    slow = table3_2(scap_speed=0.03)
+    assert check("ch3.scapulae_maintain_speed", table3_2=slow).status == "not_reproduced"
+    two = ds.sel(strategy=["step_size", "scapulae"])
+    v = check("ch3.three_turning_strategies_fail", table3_2=two)
+    assert v.status == "not_run" and "layout mismatch" in v.detail
+
+
+def test_untestable_and_missing():
+    v = check("ch3.model_free_optimisation_feasible")
+    assert v.status == "not_run" and "not testable" in v.detail
+    v = check("ch3.spline_fastest")
+    assert v.status == "not_run" and "ch3/fig3_4" in v.detail

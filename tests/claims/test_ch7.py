@@ -1,0 +1,134 @@
+"""Chapter-7 claims decided on synthetic ball, table7_1 and learning-curve datasets."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import claims
+
+
+def ball(grad_iters=90.0, cma_iters=2400.0, seeds: int = 5) -> xr.Dataset:
+    rng = np.random.default_rng(7)
+    it = np.array([grad_iters, cma_iters])[None] * (1 + 0.05 * rng.standard_normal((seeds, 2)))
+    coords = {"seed": np.arange(seeds), "method": ["gradient", "cmaes"]}
+    return xr.Dataset({
+        "iterations": xr.DataArray(it, dims=("seed", "method"), coords=coords,
+                                   attrs={"units": "1", "long_name": "iterations"}),
+        "wall_seconds": xr.DataArray(it * 0.1, dims=("seed", "method"), coords=coords,
+                                     attrs={"units": "s", "long_name": "wall time"}),
+    })
+
+
+def table7_1(grad_factor=7.0, growth=1.0, gpu=True, gpu_single=70.0, gpu_batched=1.0):
+    devices = ["cpu", "gpu"] if gpu else ["cpu"]
+    t = np.empty((len(devices), 2, 2, 2))
+    for i, dev in enumerate(devices):
+        for j, batch in enumerate([1, 128]):
+            for k in range(2):
+                fwd = (1.0 * batch ** 0.9) if dev == "cpu" else (
+                    gpu_single if batch == 1 else gpu_batched * batch)
+                fwd = fwd / (grad_factor if dev == "gpu" else 1.0)
+                t[i, j, k] = [fwd, fwd * grad_factor * (growth if k else 1.0)]
+    da = xr.DataArray(t, dims=("device", "batch", "n_params", "gradient"),
+                      coords={"device": devices, "batch": [1, 128],
+                              "n_params": [1296, 1147904], "gradient": [0, 1]},
+                      attrs={"units": "s", "long_name": "seconds per 10 model seconds"})
+    return xr.Dataset({"seconds": da})
+
+
+def curve(dim: str, n: int, final: float, start: float, seeds: int = 3, tau: float = 30.0,
+          name: str = "distance", rising: bool = False) -> xr.Dataset:
+    steps = np.arange(1, n + 1)
+    c = final + (start - final) * np.exp(-steps / tau)
+    c = np.tile(c, (seeds, 1)) * (1 + 0.01 * np.arange(seeds)[:, None])
+    da = xr.DataArray(c, dims=("seed", dim), coords={"seed": np.arange(seeds), dim: steps},
+                      attrs={"units": "m/s" if rising else "m", "long_name": name})
+    return xr.Dataset({name: da})
+
+
+def check(claim_id: str, **results) -> claims.Verdict:
+    return claims.get(claim_id).check({f"ch7/{k}": v for k, v in results.items()})
+
+
+def test_ball():
+    assert check("ch7.gradient_needs_fewer_iterations", ball=ball()).status == "reproduced"
+    assert check("ch7.gradient_faster_wall_clock", ball=ball()).status == "reproduced"
+    v = check("ch7.gradient_needs_fewer_iterations", ball=ball(3000.0, 2400.0))
+    assert v.status == "not_reproduced"
+    assert check("ch7.gradient_needs_fewer_iterations", ball=ball(seeds=2)).status == (
+        "inconclusive")
+
+
+def test_table7_1_thesis_like():
+    ds = table7_1()
+    for cid in ("ch7.gradient_costs_small_factor",
+                "ch7.gradient_cost_nearly_independent_of_parameters",
+                "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",
+                "ch7.gpu_speeds_up_large_batches"):
+        assert check(cid, table7_1=ds).status == "reproduced", cid
+
+
+def test_table7_1_contradicting():
+    assert check("ch7.gradient_costs_small_factor",
+                 table7_1=table7_1(grad_factor=40.0)).status == "not_reproduced"
+    v = check("ch7.gradient_cost_nearly_independent_of_parameters",
+              table7_1=table7_1(growth=3.0))
+    assert v.status == "not_reproduced" and v.measured["slowdown_growth_gmean"] > 2.9
+    assert check("ch7.gpu_slower_for_single_robot",
+                 table7_1=table7_1(gpu_single=0.1)).status == "not_reproduced"
+
+
+def test_table7_1_without_gpu():
+    ds = table7_1(gpu=False)
+    v = check("ch7.batching_accelerates_gpu", table7_1=ds)
+    assert v.status == "not_run" and "GPU" in v.detail
+    assert check("ch7.gradient_costs_small_factor", table7_1=ds).status == "reproduced"
+    nan_gpu = table7_1()
+    nan_gpu["seconds"].loc[{"device": "gpu"}] = np.nan
+    assert check("ch7.gpu_speeds_up_large_batches", table7_1=nan_gpu).status == "not_run"
+
+
+def test_arm_budgets():
+    fast = curve("evaluation", 300, final=0.002, start=0.5)
+    assert check("ch7.arm_fixed_point_learned_quickly", arm_fixed=fast).status == "reproduced"
+    stuck = curve("evaluation", 400, final=0.05, start=0.5)
+    v = check("ch7.arm_fixed_point_learned_quickly", arm_fixed=stuck)
+    assert v.status == "not_reproduced"
+    short = curve("evaluation", 50, final=0.002, start=0.5)
+    assert check("ch7.arm_fixed_point_learned_quickly", arm_fixed=short).status == (
+        "inconclusive")
+    rnd = curve("update", 3000, final=0.01, start=0.5, tau=400.0)
+    assert check("ch7.scales_to_millions_of_parameters", arm_random=rnd).status == "reproduced"
+
+
+def test_quadruped_gait():
+    good = curve("evaluation", 600, final=1.2, start=0.0, tau=80.0, name="speed", rising=True)
+    assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=good).status == (
+        "reproduced")
+    slow = curve("evaluation", 600, final=0.3, start=0.0, name="speed", rising=True)
+    assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=slow).status == (
+        "not_reproduced")
+    short = curve("evaluation", 100, final=0.3, start=0.0, name="speed", rising=True)
+    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=short)
+    assert v.status == "inconclusive" and "run ended" in v.detail
+
+
+def test_pendulum():
+    succ = np.zeros((3, 100))
+    succ[:, 40:] = 1.0
+    da = xr.DataArray(succ, dims=("seed", "episode"),
+                      coords={"seed": [0, 1, 2], "episode": np.arange(1, 101) * 50},
+                      attrs={"units": "1", "long_name": "swing-up and balance"})
+    ds = xr.Dataset({"success": da})
+    v = check("ch7.vision_control_learned_through_camera", pendulum_pixels=ds)
+    assert v.status == "reproduced" and v.measured["episodes_to_success_median"] == 2050.0
+    never = ds.copy(deep=True)
+    never["success"][:] = 0.0
+    assert check("ch8.ch7_pendulum_from_pixels", pendulum_pixels=never).status == (
+        "not_reproduced")
+
+
+def test_not_built_claim():
+    v = check("ch7.cmaes_fails_on_arm", arm_fixed_cmaes=xr.Dataset())
+    assert v.status == "not_run" and v.detail == claims.NOT_IMPLEMENTED

@@ -1,0 +1,111 @@
+"""The uniform decision rules of thesis.claims.stats on hand-made per-seed values."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from thesis.claims import stats
+
+
+def test_bootstrap_mean_methods():
+    ci = stats.bootstrap_mean([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    assert ci.method == "BCa" and ci.n == 6
+    assert ci.low < ci.mean == 3.5 < ci.high
+    two = stats.bootstrap_mean([1.0, 2.0])
+    assert two.method == "percentile" and 1.0 <= two.low < two.high <= 2.0
+    assert stats.bootstrap_mean([2.0, 2.0, 2.0]).method == "degenerate"
+    one = stats.bootstrap_mean([7.0, np.nan])
+    assert one.n == 1 and one.method == "single" and math.isnan(one.low)
+    assert stats.bootstrap_mean([]).method == "none"
+
+
+def test_bootstrap_is_seeded():
+    x = np.random.default_rng(1).normal(size=8)
+    assert stats.bootstrap_mean(x) == stats.bootstrap_mean(x)
+
+
+def test_decide_beats_all_outcomes():
+    a = np.array([1.0, 1.1, 0.9, 1.05, 0.95])
+    assert stats.decide_beats(a, a + 1, higher_is_better=False).status == "reproduced"
+    assert stats.decide_beats(a, a + 1, higher_is_better=True).status == "not_reproduced"
+    mixed = stats.decide_beats(a, a + np.array([0.5, -0.5, 0.4, -0.6, 0.1]),
+                               higher_is_better=True)
+    assert mixed.status == "inconclusive"
+    few = stats.decide_beats(a[:2], a[:2] + 1, higher_is_better=False)
+    assert few.status == "inconclusive" and "at least 3" in few.detail
+    assert few.measured["n_seeds"] == 2.0
+
+
+def test_decide_beats_drops_nan_pairs():
+    v = stats.decide_beats([1.0, 1.0, np.nan, 1.0], [2.0, 2.0, 2.0, np.nan],
+                           higher_is_better=False)
+    assert v.status == "inconclusive" and v.measured["n_seeds"] == 2.0
+
+
+def test_decide_equivalent():
+    assert stats.decide_equivalent([0.01, -0.02, 0.0, 0.015], margin=0.1).status == "reproduced"
+    assert stats.decide_equivalent([0.5, 0.6, 0.55], margin=0.1).status == "not_reproduced"
+    assert stats.decide_equivalent([-0.2, 0.3, 0.05, 0.0], margin=0.1).status == "inconclusive"
+
+
+def test_decide_threshold_and_measurement():
+    assert stats.decide_threshold([1.0, 1.1, 0.9], bound=2.0, below=True).status == "reproduced"
+    assert stats.decide_threshold([3.0, 3.1, 2.9], bound=2.0, below=True).status == (
+        "not_reproduced")
+    assert stats.decide_threshold([1.0, 3.0, 2.0], bound=2.0, below=False).status == (
+        "inconclusive")
+    assert stats.decide_measurement(5.0, bound=12.5, below=True, label="r").status == "reproduced"
+    assert stats.decide_measurement(20.0, bound=12.5, below=True, label="r").status == (
+        "not_reproduced")
+    assert stats.decide_measurement(np.nan, bound=1, below=True, label="r").status == (
+        "inconclusive")
+
+
+def test_first_reaching_and_budget():
+    curve = xr.DataArray([[5.0, 3.0, 1.0, 0.5], [5.0, 4.0, 4.0, 4.0]], dims=("seed", "step"),
+                         coords={"step": [10, 20, 30, 40]})
+    reached = stats.first_reaching(curve, "step", 2.0)
+    assert reached[0] == 30 and math.isnan(reached[1])
+    ok = stats.decide_within_budget([30, 20, 25], [40, 40, 40], budget=20, label="steps")
+    assert ok.status == "reproduced"
+    late = stats.decide_within_budget([np.nan, np.nan, 30], [50, 50, 50], budget=20,
+                                      label="steps")
+    assert late.status == "not_reproduced" and late.measured["n_fail"] == 2.0
+    censored = stats.decide_within_budget([np.nan, np.nan, 30], [20, 20, 40], budget=20,
+                                          label="steps")
+    assert censored.status == "inconclusive" and censored.measured["n_censored"] == 2.0
+
+
+def test_wilcoxon_mann_whitney_fisher():
+    a = np.arange(10.0)
+    assert stats.wilcoxon_paired(a + 1, a) < 0.01
+    assert stats.wilcoxon_paired(a, a) == 1.0
+    assert stats.mann_whitney(a + 100, a, alternative="greater") < 0.001
+    assert stats.fisher_combine([0.01, 0.01, 0.01]) < 0.01
+    assert math.isnan(stats.mann_whitney([], a))
+
+
+def test_per_seed_and_combine():
+    da = xr.DataArray(np.arange(12.0).reshape(3, 2, 2), dims=("seed", "gait", "f"))
+    per = stats.per_seed(da, keep=("gait",))
+    assert per.dims == ("seed", "gait")
+    np.testing.assert_allclose(per.values[0], [0.5, 2.5])
+    assert stats.per_seed(da.isel(seed=0)).sizes["seed"] == 1
+    r = stats.decide_threshold([1.0, 1.1, 0.9], bound=2.0, below=True)
+    n = stats.decide_threshold([3.0, 3.1, 2.9], bound=2.0, below=True)
+    i = stats.decide_threshold([1.0, 3.0, 2.0], bound=2.0, below=True)
+    assert stats.combine({"x": r, "y": r}).status == "reproduced"
+    assert stats.combine({"x": r, "y": n, "z": i}).status == "not_reproduced"
+    assert stats.combine({"x": r, "y": i}).status == "inconclusive"
+    assert "x.bound" in stats.combine({"x": r}).measured
+
+
+@pytest.mark.parametrize("bad", ["fine", "REPRODUCED"])
+def test_verdict_rejects_unknown_status(bad):
+    from thesis.claims import Verdict
+    with pytest.raises(ValueError):
+        Verdict(bad)
