@@ -1,4 +1,4 @@
-"""The claim registry: ids, thesis wording, paper keys, evaluate_all on empty and partial results."""
+"""The claim registry: ids, thesis wording, paper keys, evaluate_all on empty/partial results."""
 
 from __future__ import annotations
 

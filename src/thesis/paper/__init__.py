@@ -1,4 +1,6 @@
-"""The thesis's published numbers, as data (only ``thesis.claims`` and ``thesis.report`` import this).
+"""The thesis's published numbers, as data.
+
+Only ``thesis.claims`` and ``thesis.report`` import this package.
 
 Every number is a :class:`PaperValue` quoting the thesis text it was read from. Public API:
 
@@ -42,7 +44,7 @@ def get(key: str) -> PaperValue:
 
 
 def table(table_id: str) -> list[PaperValue]:
-    """Entries printed in ``table_id`` (``"Tab. 2.2"``, ``"§7.2.1"``) or of artifact ``table_id``."""
+    """Entries printed in ``table_id`` (``"Tab. 2.2"``, ``"§7.2.1"``) or of that artifact."""
     return [e for e in ALL if e.table == table_id or e.artifact == table_id]
 
 

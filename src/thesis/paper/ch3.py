@@ -82,7 +82,8 @@ _S_SPLINE = ("After optimization, the gait attained a speed of 0.41 m/s at a fre
              "1.5 Hz.")
 _S_OTHERS = ("it performs better than the gait based on sine-wave control signals (0.24 m/s) "
              "and the gait from our half ellipse approach (0.27 m/s).")
-_S_TURN = "Both strategies use the same gait at 1.5 Hz which had a speed of 0.30 m/s moving forwards."
+_S_TURN = ("Both strategies use the same gait at 1.5 Hz which had a speed of 0.30 m/s moving "
+           "forwards.")
 _UNSTATED_F = ("the frequency of this comparison is not stated (the spline value is at 1.5 Hz; "
                "the half-ellipse gait is said to walk 0.30 m/s at 1.5 Hz in §3.3.3, so 0.27 "
                "may be another frequency)")
