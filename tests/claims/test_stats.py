@@ -109,3 +109,14 @@ def test_verdict_rejects_unknown_status(bad):
     from thesis.claims import Verdict
     with pytest.raises(ValueError):
         Verdict(bad)
+
+
+def test_resamples_context_changes_interval_and_restores():
+    x = np.random.default_rng(2).normal(size=6)
+    default = stats.bootstrap_mean(x)
+    with stats.resamples(200):
+        few = stats.bootstrap_mean(x)
+    assert few != default and stats.bootstrap_mean(x) == default
+    with pytest.raises(ValueError):
+        with stats.resamples(10):
+            pass

@@ -20,7 +20,7 @@ from collections.abc import Mapping
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import ch2, ch3, ch4, ch5, ch6, ch7, ch8
+from thesis.claims import ch2, ch3, ch4, ch5, ch6, ch7, ch8, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
@@ -60,6 +60,14 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, objec
     }
 
 
-def evaluate_all(results: Mapping[str, xr.Dataset]) -> list[dict[str, object]]:
-    """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`)."""
-    return [evaluate(c, results) for c in CLAIMS]
+def evaluate_all(results: Mapping[str, xr.Dataset], *,
+                 n_resamples: int | None = None) -> list[dict[str, object]]:
+    """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`).
+
+    ``n_resamples`` (config ``report.bootstrap_resamples``) overrides the number of
+    bootstrap resamples, default :data:`thesis.claims.stats.N_RESAMPLES`.
+    """
+    if n_resamples is None:
+        return [evaluate(c, results) for c in CLAIMS]
+    with stats.resamples(n_resamples):
+        return [evaluate(c, results) for c in CLAIMS]

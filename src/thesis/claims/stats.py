@@ -26,8 +26,10 @@ Rules (applied uniformly by the decision helpers below):
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +45,21 @@ BOOTSTRAP_SEED = 20180101
 ALPHA = 0.05
 PUBLISHED_TOLERANCE = 0.25
 BUDGET_FACTOR = 2.0
+
+_RESAMPLES: contextvars.ContextVar[int] = contextvars.ContextVar("n_resamples",
+                                                                default=N_RESAMPLES)
+
+
+@contextlib.contextmanager
+def resamples(n: int) -> Iterator[None]:
+    """Use ``n`` bootstrap resamples inside the block (config ``report.bootstrap_resamples``)."""
+    if n < 100:
+        raise ValueError(f"at least 100 bootstrap resamples, got {n}")
+    token = _RESAMPLES.set(int(n))
+    try:
+        yield
+    finally:
+        _RESAMPLES.reset(token)
 
 
 @dataclass(frozen=True)
@@ -69,9 +86,13 @@ def _finite(values: Sequence[float] | np.ndarray) -> np.ndarray:
     return x[np.isfinite(x)]
 
 
-def bootstrap_mean(values, *, confidence: float = CONFIDENCE, n_resamples: int = N_RESAMPLES,
+def bootstrap_mean(values, *, confidence: float = CONFIDENCE, n_resamples: int | None = None,
                    seed: int = BOOTSTRAP_SEED) -> Interval:
-    """Mean of ``values`` (1-D, one per seed; NaN dropped) and its bootstrap interval."""
+    """Mean of ``values`` (1-D, one per seed; NaN dropped) and its bootstrap interval.
+
+    ``n_resamples`` defaults to :data:`N_RESAMPLES` or the value set by :func:`resamples`.
+    """
+    n_resamples = _RESAMPLES.get() if n_resamples is None else n_resamples
     x = _finite(values)
     n = x.size
     if n == 0:
