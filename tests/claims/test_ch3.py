@@ -85,6 +85,10 @@ def test_turning_claims():
                 "ch3.scapulae_maintain_speed", "ch3.scapulae_larger_turning_radius",
                 "ch3.three_turning_strategies_fail", "ch8.ch3_scapulae_help_maintain_speed"):
         assert check(cid, table3_2=ds).status == "reproduced", cid
+    no_turn = ds.copy(deep=True)
+    no_turn["angular_speed"].loc[{"strategy": "step_size"}] = [0.3, -0.3, 0.2, -0.2]
+    assert check("ch3.turning_without_scapulae_possible", table3_2=no_turn).status == (
+        "inconclusive")
     slow = table3_2(scap_speed=0.03)
     assert check("ch3.scapulae_maintain_speed", table3_2=slow).status == "not_reproduced"
     two = ds.sel(strategy=["step_size", "scapulae"])

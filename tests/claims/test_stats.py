@@ -78,6 +78,8 @@ def test_first_reaching_and_budget():
     censored = stats.decide_within_budget([np.nan, np.nan, 30], [20, 20, 40], budget=20,
                                           label="steps")
     assert censored.status == "inconclusive" and censored.measured["n_censored"] == 2.0
+    single = stats.decide_within_budget([np.nan], [100], budget=20, label="steps")
+    assert single.status == "inconclusive"
 
 
 def test_wilcoxon_mann_whitney_fisher():

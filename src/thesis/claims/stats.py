@@ -278,9 +278,9 @@ def decide_within_budget(reached_at, run_length, *, budget: float, label: str,
     ``reached_at[i]`` is the count at which seed i first met the target (NaN if never);
     ``run_length[i]`` the last count the run reached. A seed *succeeds* when it reached the
     target within ``factor * budget``; it *fails* when it did not although it ran that long;
-    otherwise it is *censored* (the run stopped too early to tell). Reproduced when at
-    least :data:`MIN_SEEDS` seeds exist and all succeed; not_reproduced when more than half
-    fail; inconclusive otherwise.
+    otherwise it is *censored* (the run stopped too early to tell). With fewer than
+    :data:`MIN_SEEDS` seeds inconclusive; else reproduced when all succeed, not_reproduced
+    when more than half fail, inconclusive otherwise.
     """
     reached_at = np.asarray(reached_at, float).ravel()
     run_length = np.asarray(run_length, float).ravel()
@@ -295,12 +295,12 @@ def decide_within_budget(reached_at, run_length, *, budget: float, label: str,
                 "limit": limit,
                 f"{label}_median": float(np.nanmedian(reached_at)) if np.isfinite(
                     reached_at).any() else np.nan}
-    if fail.sum() * 2 > n:
-        return Verdict("not_reproduced", measured, statistic,
-                       f"{int(fail.sum())} of {n} seeds missed the target within {limit:g}")
     few = _too_few(n, measured, statistic)
     if few:
         return few
+    if fail.sum() * 2 > n:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"{int(fail.sum())} of {n} seeds missed the target within {limit:g}")
     if success.all():
         return Verdict("reproduced", measured, statistic,
                        f"all {n} seeds reached the target within {limit:g}")
