@@ -1,0 +1,380 @@
+"""Kinematics of the Oncilla's three-segment pantographic leg (§3.2.1, §3.3.1.2, §4.5).
+
+Frames and conventions (engine convention, SI units):
+
+* Hip frame: origin on the hip axis, ``x`` forward, ``y`` left, ``z`` up. The thesis
+  writes foot positions as (horizontal y, vertical x) with x the *depth* below the hip
+  (Tab. 4.1: "x0: vertical distance of the hip to the trajectory's center"); here that
+  is ``(x_here, z_here) = (y_thesis, -x_thesis)``.
+* ``hip`` [rad]: angle of the proximal segment (femur) from the downward vertical,
+  positive when it points forward. ``knee`` [rad]: the inner knee angle ψ between
+  femur and tibia (π would be a straight leg). Both grow when "the leg is moved to the
+  front or the knee is extended", the encoder convention of Fig. 6.4.
+* ``scapula`` [rad]: ab/adduction of the leg plane about the body's x axis through the
+  hip, positive = abduction (foot moves outward); ``side`` = +1 for left legs, -1 for
+  right legs.
+
+Pantograph: the femur (hip→knee, ``femur``), the tibia (knee→heel, ``tibia``) and the
+foot segment (heel→toe, ``foot``) with a parallel link that keeps the foot segment
+parallel to the femur (Cheetah-cub lineage, FACTS §5). The knee points forward (cat-like,
+"loosely inspired by the legs of a cat", §3.2.1), so the tibia leans back::
+
+    foot = (femur + foot) u(hip) + tibia u(hip + knee - π),   u(φ) = (sin φ, -cos φ)
+
+The thesis (§3.3.1.2) had no algebraic inverse for the real cable-driven leg and solved
+it numerically; :func:`inverse` does the same (damped Gauss-Newton with joint-limit
+projection, fixed iterations, jit/vmap/grad-safe). For this rigid-pantograph model a
+closed form *does* exist (two-link equivalent); :func:`inverse_closed_form` is kept as a
+test oracle only.
+
+Reachable area = image of the joint-limit box under :func:`forward`. Targets outside it
+(e.g. a half ellipse "higher than strictly possible", §3.3.1.2, or splines "limited to
+the range of the actuators", §4.2) are mapped by the projected solver to joint commands
+at the limits, which reproduces the "dent" of §3.3.1.2.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+#: Leg order of every 12-vector of joint commands.
+LEGS = ("LF", "RF", "LH", "RH")
+#: Joint order within a leg.
+JOINTS = ("scapula", "hip", "knee")
+#: +1 for left legs, -1 for right legs (order of LEGS).
+SIDES = (1.0, -1.0, 1.0, -1.0)
+#: True for fore legs (order of LEGS).
+IS_FORE = (True, True, False, False)
+
+# ---- design values of the default geometry (see :func:`oncilla_geometry`) ----------
+#: Maximal hip-foot distance [m]: the reach circle that bounds the step length of Tab. 4.1.
+R_MAX = 0.167
+#: Minimal hip-foot distance [m] at full knee flexion.
+R_MIN = 0.100
+
+
+def _deg(x: float) -> float:
+    return x * math.pi / 180.0
+
+
+@dataclasses.dataclass(frozen=True)
+class LegGeometry:
+    """Geometry and joint limits of one Oncilla leg (all legs identical).
+
+    Attributes:
+        femur: proximal segment, hip→knee [m].
+        tibia: middle segment, knee→heel [m].
+        foot: distal segment, heel→toe, kept parallel to the femur by the pantograph's
+            parallel link [m]; the parallel link's length equals ``tibia`` (parallelogram).
+        hip_min, hip_max: hip (femur) angle limits from the downward vertical [rad].
+        knee_min, knee_max: inner knee angle limits [rad] (flexion stop, extension stop).
+        scapula_min, scapula_max: ab/adduction limits [rad] (+ = abduction).
+        knee_spring_rest: rest angle of the knee's extension spring [rad]; the spring
+            pushes the knee open against the cable (§6.2), here up to the extension stop.
+    """
+
+    femur: float
+    tibia: float
+    foot: float
+    hip_min: float
+    hip_max: float
+    knee_min: float
+    knee_max: float
+    scapula_min: float
+    scapula_max: float
+    knee_spring_rest: float
+
+    def replace(self, **kw) -> "LegGeometry":
+        return dataclasses.replace(self, **kw)
+
+    @property
+    def lower(self) -> jnp.ndarray:
+        """(2,) sagittal joint lower limits (hip, knee) [rad]."""
+        return jnp.stack([jnp.asarray(self.hip_min), jnp.asarray(self.knee_min)])
+
+    @property
+    def upper(self) -> jnp.ndarray:
+        """(2,) sagittal joint upper limits (hip, knee) [rad]."""
+        return jnp.stack([jnp.asarray(self.hip_max), jnp.asarray(self.knee_max)])
+
+
+jax.tree_util.register_dataclass(
+    LegGeometry,
+    data_fields=[f.name for f in dataclasses.fields(LegGeometry)],
+    meta_fields=[],
+)
+
+
+def knee_angle_for_reach(femur: float, tibia: float, foot: float, r: float) -> float:
+    """Inner knee angle [rad] at which the hip-foot distance equals ``r`` [m] (law of
+    cosines on the two-link equivalent with links femur+foot and tibia)."""
+    a, b = femur + foot, tibia
+    return math.acos((a * a + b * b - r * r) / (2.0 * a * b))
+
+
+def oncilla_geometry() -> LegGeometry:
+    """The default Oncilla leg. No public source gives the Oncilla's segment lengths or
+    joint ranges (FACTS §5), so they are chosen from what the thesis states:
+
+    * Reach R_MAX = 167 mm: Tab. 4.1 bounds the step length by "the maximal step length
+      at the height x0, such that the points A and B ... never go out of the reachable
+      region", and Fig. 4.9 says most particles lie on that edge, "the end of the robot's
+      range of motion". The (a, x0) pairs of the optimised particles in Tab. 4.2–4.4 all
+      satisfy a² + x0² = (167 mm)² to within 0.1 mm, i.e. a_max(x0) = sqrt(R² - x0²):
+      A = (y0 + a, x0) lies on a reach circle of radius 167 mm (a is the semi-axis; the
+      stride is 2a, §3.3.1.3 "the major axis 2a"). The circle is also consistent with the
+      ~0.15 m leg of the Cheetah-cub predecessor (FACTS §5) scaled to the larger Oncilla.
+    * Reach R_MIN = 100 mm (knee flexion stop): small enough that the swing heights found
+      for the half ellipse (b ≤ 26 mm at x0 ≈ 138 mm, Tab. 3.1a) are reachable, and
+      large enough that the tallest splines of Tab. 4.1 (control points 70 mm, apex
+      52.5 mm above the stance line at x0 = 126 mm) are cut by the actuator range, as
+      §3.3.1.2 ("a dent in the top, because the knee cannot flex any further") and §4.2
+      ("limited to the range of the actuators") describe. An assumption.
+    * Segments femur 65 mm, tibia 70 mm, foot 40 mm: three segments of comparable
+      length (cat-like, §3.2.1) summing to 175 mm so that the extension stop that gives
+      R_MAX leaves the knee bent (≈145°), as a spring-loaded pantograph must be to act
+      as a spring; knee limits follow from R_MIN and R_MAX (:func:`knee_angle_for_reach`).
+    * Hip range [-30°, 65°]: wide enough that the reach circle, not the hip range, bounds
+      the stance over the whole x0 range [126, 158] mm of Tab. 4.1 (foot up to ±41° from
+      the vertical at full extension; checked in the tests); the offset towards positive
+      angles is because the knee points forward, so the femur leans forward.
+    * Scapula [-5°, +10°]: "about 5° of adduction and 10° of abduction" (§3.3.2.5).
+    """
+    femur, tibia, foot = 0.065, 0.070, 0.040
+    knee_min = knee_angle_for_reach(femur, tibia, foot, R_MIN)
+    knee_max = knee_angle_for_reach(femur, tibia, foot, R_MAX)
+    return LegGeometry(
+        femur=femur, tibia=tibia, foot=foot, hip_min=_deg(-30.0), hip_max=_deg(65.0),
+        knee_min=knee_min, knee_max=knee_max, scapula_min=_deg(-5.0),
+        scapula_max=_deg(10.0), knee_spring_rest=knee_max,
+    )
+
+
+def forward(geom: LegGeometry, hip, knee) -> jnp.ndarray:
+    """Sagittal forward kinematics.
+
+    Args:
+        geom: leg geometry.
+        hip, knee: joint angles [rad], broadcastable arrays of shape (...).
+
+    Returns:
+        (..., 2) foot position (x forward, z up) in the hip frame [m].
+    """
+    hip = jnp.asarray(hip)
+    knee = jnp.asarray(knee)
+    a = geom.femur + geom.foot
+    b = geom.tibia
+    t2 = hip + knee - jnp.pi
+    x = a * jnp.sin(hip) + b * jnp.sin(t2)
+    z = -(a * jnp.cos(hip) + b * jnp.cos(t2))
+    return jnp.stack(jnp.broadcast_arrays(x, z), axis=-1)
+
+
+def forward3d(geom: LegGeometry, scapula, hip, knee, side) -> jnp.ndarray:
+    """Forward kinematics including scapula ab/adduction.
+
+    Args:
+        scapula, hip, knee: joint angles [rad], broadcastable (...).
+        side: +1 (left leg) or -1 (right leg), broadcastable.
+
+    Returns:
+        (..., 3) foot position (x, y, z) in the hip frame [m]; the leg plane is rotated
+        about the x axis through the hip by ``scapula`` towards the outside.
+    """
+    p = forward(geom, hip, knee)
+    depth = -p[..., 1]
+    s = jnp.asarray(scapula)
+    y = jnp.asarray(side) * depth * jnp.sin(s)
+    z = -depth * jnp.cos(s)
+    x, y, z = jnp.broadcast_arrays(p[..., 0], y, z)
+    return jnp.stack([x, y, z], axis=-1)
+
+
+def _fk_q(geom: LegGeometry, q: jnp.ndarray) -> jnp.ndarray:
+    return forward(geom, q[0], q[1])
+
+
+def _grid_init(geom: LegGeometry, target: jnp.ndarray, n: int) -> jnp.ndarray:
+    """Nearest point of an n×n joint grid (coarse global start for the local solver)."""
+    u = (jnp.arange(n) + 0.5) / n
+    hips = geom.hip_min + u * (geom.hip_max - geom.hip_min)
+    knees = geom.knee_min + u * (geom.knee_max - geom.knee_min)
+    H, K = jnp.meshgrid(hips, knees, indexing="ij")
+    P = forward(geom, H, K)
+    d2 = jnp.sum((P - target) ** 2, axis=-1).reshape(-1)
+    i = jnp.argmin(d2)
+    q0 = jnp.stack([H.reshape(-1)[i], K.reshape(-1)[i]])
+    return jax.lax.stop_gradient(q0)
+
+
+def _solve2(H: jnp.ndarray, g: jnp.ndarray) -> jnp.ndarray:
+    """Solve the 2×2 system H x = g in closed form (H symmetric positive definite)."""
+    det = H[0, 0] * H[1, 1] - H[0, 1] * H[1, 0]
+    return jnp.stack([H[1, 1] * g[0] - H[0, 1] * g[1], H[0, 0] * g[1] - H[1, 0] * g[0]]) / det
+
+
+def _solve_one(geom: LegGeometry, target: jnp.ndarray, n_iter: int, grid: int,
+               damping: float) -> jnp.ndarray:
+    lo, hi = geom.lower.astype(target.dtype), geom.upper.astype(target.dtype)
+    q0 = _grid_init(geom, target, grid).astype(target.dtype)
+    jac = jax.jacfwd(lambda q: _fk_q(geom, q))
+    eye = jnp.eye(2, dtype=target.dtype)
+
+    def body(_, q):
+        r = _fk_q(geom, q) - target
+        J = jac(q)
+        JtJ = J.T @ J
+        mu = damping * (jnp.trace(JtJ) + 1e-12)
+        dq = -_solve2(JtJ + mu * eye, J.T @ r)
+        # active set: joints whose full step leaves the box are put on their limit and
+        # the step of the free joints is re-solved on the linearised residual
+        q_full = q + dq
+        active = (q_full < lo) | (q_full > hi)
+        free = (~active).astype(q.dtype)
+        d_act = jnp.where(active, jnp.clip(q_full, lo, hi) - q, 0.0)
+        r2 = r + J @ d_act
+        H = free[:, None] * JtJ * free[None, :] + jnp.diag(1.0 - free) + mu * eye
+        d_free = -_solve2(H, free * (J.T @ r2))
+        return jnp.clip(q + d_act + d_free, lo, hi)
+
+    return jax.lax.fori_loop(0, n_iter, body, q0)
+
+
+def inverse(geom: LegGeometry, foot_xz, *, n_iter: int = 12, grid: int = 16,
+            damping: float = 1e-4) -> jnp.ndarray:
+    """Numerical sagittal inverse kinematics (§3.3.1.2: solved numerically).
+
+    A coarse ``grid``×``grid`` search over the joint box gives the start; then
+    ``n_iter`` Levenberg-Marquardt (damped Gauss-Newton) steps, each followed by
+    an active-set projection onto the joint limits (a joint whose step would leave its
+    range is put on the limit and the other joint's step is re-solved). Inside the reachable area this
+    converges to the exact solution; outside, to joint commands at the limits whose foot
+    position is (close to) the nearest reachable point. Fixed iteration count: jit- and
+    vmap-able, and differentiable with respect to the target and the geometry.
+
+    Args:
+        geom: leg geometry.
+        foot_xz: (..., 2) target foot positions (x forward, z up) in the hip frame [m].
+
+    Returns:
+        (..., 2) joint angles (hip, knee) [rad], inside the joint limits.
+    """
+    p = jnp.asarray(foot_xz)
+    if not jnp.issubdtype(p.dtype, jnp.floating):
+        p = p.astype(jnp.float32)
+    q = _inverse_flat(geom, p.reshape(-1, 2), n_iter, grid, float(damping))
+    return q.reshape(p.shape)
+
+
+@functools.partial(jax.jit, static_argnums=(2, 3, 4))
+def _inverse_flat(geom: LegGeometry, flat: jnp.ndarray, n_iter: int, grid: int,
+                  damping: float) -> jnp.ndarray:
+    return jax.vmap(lambda t: _solve_one(geom, t, n_iter, grid, damping))(flat)
+
+
+def inverse3d(geom: LegGeometry, foot_xyz, side, **kw) -> jnp.ndarray:
+    """Inverse kinematics including the scapula.
+
+    The scapula angle is closed form (rotation of the leg plane about the x axis),
+    clipped to its limits; the sagittal part uses :func:`inverse` on the foot's position
+    in the rotated leg plane.
+
+    Args:
+        foot_xyz: (..., 3) target foot positions in the hip frame [m].
+        side: +1 (left) / -1 (right), broadcastable to (...).
+
+    Returns:
+        (..., 3) joint angles (scapula, hip, knee) [rad].
+    """
+    p = jnp.asarray(foot_xyz)
+    lateral = jnp.asarray(side) * p[..., 1]
+    scap = jnp.clip(jnp.arctan2(lateral, -p[..., 2]), geom.scapula_min, geom.scapula_max)
+    depth = jnp.sqrt(p[..., 1] ** 2 + p[..., 2] ** 2 + 1e-20)
+    q = inverse(geom, jnp.stack([p[..., 0], -depth], axis=-1), **kw)
+    scap = jnp.broadcast_to(scap, q.shape[:-1])
+    return jnp.concatenate([scap[..., None], q], axis=-1)
+
+
+def inverse_closed_form(geom: LegGeometry, foot_xz) -> jnp.ndarray:
+    """Closed-form inverse of the rigid-pantograph model (test oracle, no clipping).
+
+    Returns (..., 2) (hip, knee) [rad]; NaN where |foot| is outside the two-link reach.
+    """
+    p = jnp.asarray(foot_xz)
+    a, b = geom.femur + geom.foot, geom.tibia
+    r2 = jnp.sum(p**2, axis=-1)
+    r = jnp.sqrt(r2)
+    knee = jnp.arccos((a * a + b * b - r2) / (2 * a * b))
+    phi = jnp.arctan2(p[..., 0], -p[..., 1])  # foot direction from the downward vertical
+    delta = jnp.arccos((a * a + r2 - b * b) / (2 * a * r))  # femur leads the foot ray
+    return jnp.stack([phi + delta, knee], axis=-1)
+
+
+def reachable(geom: LegGeometry, points, tol: float = 1e-4, **kw) -> jnp.ndarray:
+    """Mask of the sagittal foot positions inside the reachable area.
+
+    Args:
+        points: (..., 2) foot positions (x, z) in the hip frame [m].
+        tol: accepted distance [m] between the target and the foot position of the
+            (limit-projected) inverse kinematics.
+
+    Returns:
+        (...,) boolean mask.
+    """
+    p = jnp.asarray(points)
+    q = inverse(geom, p, **kw)
+    err = jnp.linalg.norm(forward(geom, q[..., 0], q[..., 1]) - p, axis=-1)
+    return err <= tol
+
+
+def reach_boundary(geom: LegGeometry, n_per_edge: int = 200) -> np.ndarray:
+    """Closed polygon of the reachable area's boundary (sagittal plane).
+
+    The forward map is one-to-one on the joint box (the knee never straightens), so the
+    image of the box's boundary is the boundary of the reachable area.
+
+    Returns:
+        (4 n_per_edge, 2) foot positions [m], counter-clockwise around the box:
+        knee at flexion stop (hip rising), hip at its maximum (knee opening), knee at
+        the extension stop (hip falling), hip at its minimum (knee closing).
+    """
+    u = np.linspace(0.0, 1.0, n_per_edge, endpoint=False)
+    h0, h1 = float(geom.hip_min), float(geom.hip_max)
+    k0, k1 = float(geom.knee_min), float(geom.knee_max)
+    hips = np.concatenate([h0 + u * (h1 - h0), np.full_like(u, h1), h1 - u * (h1 - h0),
+                           np.full_like(u, h0)])
+    knees = np.concatenate([np.full_like(u, k0), k0 + u * (k1 - k0), np.full_like(u, k1),
+                            k1 - u * (k1 - k0)])
+    return np.asarray(forward(geom, hips, knees), dtype=np.float64)
+
+
+def horizontal_extent(geom: LegGeometry, depth, n_per_edge: int = 2000) -> np.ndarray:
+    """Horizontal extent of the reachable area at given depths below the hip.
+
+    Args:
+        depth: (...,) depth(s) below the hip [m] (thesis x0).
+
+    Returns:
+        (..., 2) the (x_min, x_max) [m] of the reachable points at that depth (the
+        outermost crossings of the boundary polygon; NaN where the line misses the
+        area). Over the x0 range of Tab. 4.1 the slice is one interval.
+    """
+    poly = reach_boundary(geom, n_per_edge)
+    p0, p1 = poly, np.roll(poly, -1, axis=0)
+    d = np.asarray(depth, dtype=np.float64)
+    zc = -d.reshape(-1, 1)
+    z0, z1 = p0[None, :, 1], p1[None, :, 1]
+    cross = (z0 - zc) * (z1 - zc) <= 0.0
+    t = np.where(z1 != z0, (zc - z0) / np.where(z1 != z0, z1 - z0, 1.0), 0.0)
+    x = p0[None, :, 0] + t * (p1[None, :, 0] - p0[None, :, 0])
+    xmin = np.where(cross, x, np.inf).min(axis=1)
+    xmax = np.where(cross, x, -np.inf).max(axis=1)
+    out = np.stack([xmin, xmax], axis=-1)
+    out[~np.isfinite(out).all(axis=1)] = np.nan
+    return out.reshape(d.shape + (2,))
