@@ -132,3 +132,22 @@ def test_pendulum():
 def test_not_built_claim():
     v = check("ch7.cmaes_fails_on_arm", arm_fixed_cmaes=xr.Dataset())
     assert v.status == "not_run" and v.detail == claims.NOT_IMPLEMENTED
+
+
+def test_thesis_own_table7_1_satisfies_its_timing_claims():
+    """The claims encode the thesis's statements: its own Tab. 7.1 must pass them."""
+    from thesis import paper
+
+    coords = {"device": ["cpu", "gpu"], "batch": [1, 128], "n_params": [1296, 1147904],
+              "gradient": [0, 1]}
+    da = xr.DataArray(np.full((2, 2, 2, 2), np.nan), dims=tuple(coords), coords=coords,
+                      attrs={"units": "s", "long_name": "seconds"})
+    for e in paper.select("table7_1", "seconds"):
+        da.loc[e.coord_dict()] = e.value
+    assert np.isfinite(da.values).all()
+    ds = xr.Dataset({"seconds": da})
+    for cid in ("ch7.gradient_costs_small_factor",
+                "ch7.gradient_cost_nearly_independent_of_parameters",
+                "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",
+                "ch7.gpu_speeds_up_large_batches"):
+        assert check(cid, table7_1=ds).status == "reproduced", cid
