@@ -1,6 +1,7 @@
 # Lookups shared by every chapter's rules: paths, config slices, code versions.
 # Logic lives in the `thesis` package; this file only names things.
 import json
+import sys
 
 from thesis.config import validate_config
 from thesis.cli import config_slice
@@ -10,6 +11,8 @@ from thesis.provenance import code_version
 config.update(validate_config(config))
 
 PROFILE = config["profile"]
+# The CLI of this environment (the interpreter running snakemake), independent of PATH.
+THESIS = f"{sys.executable} -m thesis"
 CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7"]
 
 # Filled by each chapter's .smk: result files of its target, figures and tables it reports.

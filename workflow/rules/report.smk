@@ -29,7 +29,7 @@ rule claims:
         mem_mb=2000,
         runtime=10,
     shell:
-        "python -m thesis check --profile {PROFILE} --output {output.json} > {log} 2>&1"
+        "{THESIS} check --profile {PROFILE} --output {output.json} > {log} 2>&1"
 
 
 for _ch in CHAPTERS:
@@ -61,7 +61,7 @@ for _ch in CHAPTERS:
             mem_mb=2000,
             runtime=10,
         shell:
-            "python -m thesis report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+            "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
 
 
 rule report:
@@ -96,4 +96,4 @@ rule report:
         mem_mb=2000,
         runtime=10,
     shell:
-        "python -m thesis report --profile {PROFILE} > {log} 2>&1"
+        "{THESIS} report --profile {PROFILE} > {log} 2>&1"
