@@ -321,7 +321,7 @@ def _smooth_textures(shape):
     return np.stack(out)
 
 
-def _grad_scene(dtype, sphere_pos=(0.05, -0.02, 3.0), degenerate=False):
+def _grad_scene(dtype, sphere_pos=(0.05, -0.02, 3.0), degenerate=False, inside=False):
     spheres = [dict(pos=sphere_pos, r=0.8, rot=rot_from_seed(1), color=(1, 0.9, 0.8), tex=0)]
     boxes = [dict(pos=(1.2, 0.3, 4.0), rot=rot_from_seed(2), half=(0.3, 0.4, 0.5),
                   color=(0.7, 1, 1), tex=1)]
@@ -332,18 +332,20 @@ def _grad_scene(dtype, sphere_pos=(0.05, -0.02, 3.0), degenerate=False):
         # the central row/column rays, a plane containing the camera centre (rays parallel).
         spheres[0]["rot"] = np.diag([1.0, -1.0, -1.0])
         spheres[0]["pos"] = (0, 0, 3.0)
-        boxes.append(dict(pos=(0, 0, 6.0), half=(0.5, 0.5, 0.5), color=(1, 1, 1), tex=0))
+        boxes.append(dict(pos=(1.0, 0, 6.0), half=(0.5, 0.5, 0.5), color=(1, 1, 1), tex=0))
         planes.append(dict(pos=(0, 0, 0), rot=np.stack([[0, 1, 0], [0, 0, 1.0], [1, 0, 0]], 1),
                            color=(1, 1, 1)))
-        spheres.append(dict(pos=(0, 0, 0), r=0.5, color=(1, 1, 1), tex=0))  # camera inside
+    if inside:  # the camera inside a sphere sees its inner surface (pole on the axis too)
+        spheres.append(dict(pos=(0, 0, 0), r=0.5, color=(1, 1, 1), tex=0))
     return make_scene(spheres, boxes, planes, textures=_smooth_textures((2, 16, 24)),
                       dtype=dtype)
 
 
-def test_gradients_finite_everywhere_including_degenerate_rays():
+@pytest.mark.parametrize("inside", [False, True])
+def test_gradients_finite_everywhere_including_degenerate_rays(inside):
     pixels = (33, 25)  # odd: the central row/column rays are exactly axis-aligned
     o, d = camera_rays(jnp.zeros(3), jnp.eye(3), 0.03, (0.036, 0.027), pixels)
-    scene = _grad_scene(jnp.float32, degenerate=True)
+    scene = _grad_scene(jnp.float32, degenerate=True, inside=inside)
 
     def loss(scene, cam_pos, cam_rot):
         o, d = camera_rays(cam_pos, cam_rot, 0.03, (0.036, 0.027), pixels)
@@ -357,7 +359,13 @@ def test_gradients_finite_everywhere_including_degenerate_rays():
     for leaf in leaves:
         assert np.all(np.isfinite(np.asarray(leaf)))
     assert np.asarray(grads[1]).any()  # the camera position does influence the image
-    assert hit_mask(cast(o, d, scene)).all()
+    ids = _ids(o, d, scene)
+    if inside:
+        assert hit_mask(cast(o, d, scene)).all()
+    else:  # the degenerate geometry is in view: pole at the centre pixel, box on row 12
+        np.testing.assert_array_equal(ids[12, 16], [1, 0, 0])
+        assert np.any(np.all(ids[12] == [0, 1, 0], axis=-1))
+        assert np.asarray(grads[0].box_pos).any() and np.asarray(grads[0].sphere_pos).any()
 
 
 def _ids(o, d, scene):
