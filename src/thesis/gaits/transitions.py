@@ -35,8 +35,9 @@ def transition_state(family, p_from, p_to, tau, duration, phase0=0.0):
     Args:
         family: a gait family (needs ``index("f")``).
         p_from, p_to: (P,) parameter vectors of the outgoing and incoming gait.
-        tau: time since the transition started [s]; clipped below at 0, and after
-            ``duration`` the incoming gait runs at its own frequency.
+        tau: time since the transition started [s]; before it (tau < 0) the outgoing
+            gait runs unchanged, after ``duration`` the incoming gait runs at its own
+            frequency.
         duration: transition length T [s].
         phase0: gait phase at the start of the transition [cycles].
 
@@ -46,12 +47,14 @@ def transition_state(family, p_from, p_to, tau, duration, phase0=0.0):
     p_from, p_to = jnp.asarray(p_from), jnp.asarray(p_to)
     i = family.index("f")
     f0, f1 = p_from[i], p_to[i]
-    tau = jnp.maximum(jnp.asarray(tau, dtype=p_from.dtype), 0.0)
+    tau_raw = jnp.asarray(tau, dtype=p_from.dtype)
+    tau = jnp.maximum(tau_raw, 0.0)
     w = jnp.clip(tau / duration, 0.0, 1.0)
     params = (1.0 - w) * p_from + w * p_to
     params = params.at[i].set(f0 + (f1 - f0) * _smoothstep(w))
     phase_in = f0 * jnp.minimum(tau, duration) + (f1 - f0) * duration * _smoothstep_integral(w)
     phase = phase0 + phase_in + f1 * jnp.maximum(tau - duration, 0.0)
+    phase = phase + f0 * jnp.minimum(tau_raw, 0.0)  # before the start: gait p_from runs
     return params, phase
 
 
