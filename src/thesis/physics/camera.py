@@ -22,7 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.physics.raycast import SKY_COLOR, Scene, cast
+from thesis.physics.raycast import SKY_COLOR, Scene, _einsum, cast
 
 __all__ = [
     "camera_rays",
@@ -75,7 +75,7 @@ def camera_rays(pos, rot, focal_length, sensor_size, pixels):
         [jnp.broadcast_to(xs[None, :], (h, w)), jnp.broadcast_to(ys[:, None], (h, w)),
          jnp.broadcast_to(f, (h, w))], axis=-1)
     local = local / jnp.linalg.norm(local, axis=-1, keepdims=True)  # f > 0: never zero
-    dirs = jnp.einsum("ij,hwj->hwi", rot, local)
+    dirs = _einsum("ij,hwj->hwi", rot, local)
     origins = jnp.broadcast_to(pos, dirs.shape)
     return origins, dirs
 
@@ -96,7 +96,8 @@ def project(pos, rot, focal_length, sensor_size, pixels, points, z_min=1e-6):
     points = jnp.asarray(points)
     dtype = points.dtype if jnp.issubdtype(points.dtype, jnp.floating) else jnp.float32
     points = points.astype(dtype)
-    pc = (points - jnp.asarray(pos, dtype)[None, :]) @ jnp.asarray(rot, dtype)  # rot^T (p - pos)
+    pc = _einsum("nk,kj->nj", points - jnp.asarray(pos, dtype)[None, :],
+                 jnp.asarray(rot, dtype))  # rot^T (p - pos)
     z = pc[:, 2]
     in_front = z > z_min
     inv_z = jnp.where(in_front, 1.0 / jnp.where(in_front, z, 1.0), 0.0)
@@ -124,8 +125,8 @@ def _compose(body_pos, body_rot, bodies, local_pos, local_rot):
         return local_pos, local_rot
     idx = np.maximum(bodies, 0)
     bpos, brot = body_pos[idx], body_rot[idx]
-    wpos = bpos + jnp.einsum("nij,nj->ni", brot, local_pos)
-    wrot = jnp.einsum("nij,njk->nik", brot, local_rot)
+    wpos = bpos + _einsum("nij,nj->ni", brot, local_pos)
+    wrot = _einsum("nij,njk->nik", brot, local_rot)
     world = jnp.asarray(bodies < 0)
     return (jnp.where(world[:, None], local_pos, wpos),
             jnp.where(world[:, None, None], local_rot, wrot))

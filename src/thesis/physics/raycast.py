@@ -114,6 +114,11 @@ jax.tree_util.register_dataclass(
 )
 
 
+def _einsum(spec, *ops):
+    """einsum at full float32 precision (GPUs would otherwise use TF32 for the geometry)."""
+    return jnp.einsum(spec, *ops, precision=jax.lax.Precision.HIGHEST)
+
+
 def _safe_div(num, den, eps=_PARALLEL_EPS):
     """num / den where |den| > eps, else 0; finite value and gradient everywhere."""
     ok = jnp.abs(den) > eps
@@ -138,7 +143,7 @@ def _safe_sqrt(x):
 
 def _hit_spheres(o, d, pos, radius, rot, t_min):
     oc = o[:, None, :] - pos[None, :, :]  # (R, S, 3)
-    b = jnp.einsum("rsk,rk->rs", oc, d)
+    b = _einsum("rsk,rk->rs", oc, d)
     c = jnp.sum(oc * oc, axis=-1) - radius[None, :] ** 2
     disc = b * b - c
     root = _safe_sqrt(disc)
@@ -148,7 +153,7 @@ def _hit_spheres(o, d, pos, radius, rot, t_min):
     hit = (disc > 0) & (t > t_min)
     t = jnp.where(hit, t, 0.0)
     p = oc + t[..., None] * d[:, None, :]  # hit point relative to the centre
-    q = jnp.einsum("skj,rsk->rsj", rot, p)  # local frame (R^T p), unnormalised
+    q = _einsum("skj,rsk->rsj", rot, p)  # local frame (R^T p), unnormalised
     u = 0.5 + _safe_atan2(q[..., 1], q[..., 0]) / (2.0 * jnp.pi)
     v = _safe_atan2(_safe_sqrt(q[..., 0] ** 2 + q[..., 1] ** 2), q[..., 2]) / jnp.pi
     return t, hit, u, v
@@ -156,8 +161,8 @@ def _hit_spheres(o, d, pos, radius, rot, t_min):
 
 def _hit_boxes(o, d, pos, rot, half, t_min):
     """Slab test in each box frame; the hit face is the entry face (exit face from inside)."""
-    ol = jnp.einsum("bkj,rbk->rbj", rot, o[:, None, :] - pos[None, :, :])  # (R, B, 3)
-    dl = jnp.einsum("bkj,rk->rbj", rot, d)
+    ol = _einsum("bkj,rbk->rbj", rot, o[:, None, :] - pos[None, :, :])  # (R, B, 3)
+    dl = _einsum("bkj,rk->rbj", rot, d)
     h = jnp.broadcast_to(half[None], ol.shape)
     t_lo, ok = _safe_div(-h - ol, dl)
     t_hi, _ = _safe_div(h - ol, dl)
@@ -192,12 +197,12 @@ def _hit_boxes(o, d, pos, rot, half, t_min):
 def _hit_planes(o, d, pos, rot, tile, t_min):
     n = rot[:, :, 2]  # (P, 3)
     rel = pos[None, :, :] - o[:, None, :]  # (R, P, 3)
-    t, ok = _safe_div(jnp.einsum("rpk,pk->rp", rel, n), d @ n.T)
+    t, ok = _safe_div(_einsum("rpk,pk->rp", rel, n), _einsum("rk,pk->rp", d, n))
     hit = ok & (t > t_min)
     t = jnp.where(hit, t, 0.0)
     p = t[..., None] * d[:, None, :] - rel  # hit point relative to the plane point
-    u = jnp.einsum("rpk,pk->rp", p, rot[:, :, 0]) / tile[None, :, 0]
-    v = -jnp.einsum("rpk,pk->rp", p, rot[:, :, 1]) / tile[None, :, 1]
+    u = _einsum("rpk,pk->rp", p, rot[:, :, 0]) / tile[None, :, 0]
+    v = -_einsum("rpk,pk->rp", p, rot[:, :, 1]) / tile[None, :, 1]
     return t, hit, u, v
 
 
@@ -205,7 +210,9 @@ def _hit_planes(o, d, pos, rot, tile, t_min):
 
 
 def sample_bilinear(textures, tex_id, u, v, wrap_u, wrap_v):
-    """Bilinearly sample ``textures[tex_id]`` at texture coordinates (u, v).
+    """Bilinearly sample ``textures[tex_id]`` at texture coordinates (u, v) (thesis §7.3.3.1:
+    the interpolation of the spatial transformer, which gives the image non-zero derivatives
+    with respect to the hit points).
 
     Args:
         textures: (T, h, w, 3) images, row 0 at the top.
