@@ -1,0 +1,122 @@
+"""Tests of the cluttered MNIST sequence synthesiser (§2.5) and the IDX reader."""
+
+import gzip
+
+import numpy as np
+import pytest
+
+from thesis.chirpz.data import DIGIT, load_pools, read_split, synthesise, write_h5
+from thesis.chirpz.idx import read_idx, write_idx
+
+
+def _fake_digits(n=40, seed=0):
+    rng = np.random.default_rng(seed)
+    digits = np.zeros((n, 28, 28), np.float32)
+    digits[:, 4:24, 6:22] = rng.uniform(0.5, 1.0, (n, 20, 16))  # a bright block per digit
+    return digits, np.arange(n) % 10
+
+
+def test_layout_rules_on_generated_samples():
+    digits, labels = _fake_digits()
+    rng = np.random.default_rng(1)
+    x, y, layouts = synthesise(digits, labels, 300, rng, return_layout=True)
+    assert x.shape == (300, 100, 100) and x.dtype == np.float32
+    assert y.shape == (300, 3)
+    assert x.min() >= 0.0 and x.max() <= 1.0
+    slopes = []
+    for s, lay in enumerate(layouts):
+        assert lay.digit_xy.shape == (3, 2)
+        assert len(lay.clutter_xy) == 8  # 8 clutter patches
+        xs, ys = lay.digit_xy[:, 0], lay.digit_xy[:, 1]
+        assert np.all(np.diff(xs) == DIGIT)  # side by side, no overlap
+        assert xs.min() >= 0 and xs.max() + DIGIT <= 100  # sequence fits on the canvas
+        assert ys.min() >= 0 and ys.max() + DIGIT <= 100
+        dy = np.diff(ys)
+        assert np.all(np.abs(dy) <= DIGIT)  # slope within +-45 degrees
+        assert abs(lay.slope_deg) <= 45.0
+        assert np.all(np.abs(dy - DIGIT * np.tan(np.radians(lay.slope_deg))) <= 1.0)
+        assert lay.clutter_xy.min() >= 0 and lay.clutter_xy.max() <= 100 - 9
+        slopes.append(lay.slope_deg)
+        # the digits are on the canvas where the layout says
+        for (dx, dyy), lab in zip(lay.digit_xy, y[s]):
+            assert x[s, dyy + 4 : dyy + 24, dx + 6 : dx + 22].min() >= 0.5
+    assert set(np.unique(y)) == set(range(10))
+    assert min(slopes) < -30 and max(slopes) > 30  # the whole slope range is used
+
+
+def test_clutter_count_and_size_on_empty_digits():
+    """With digits that are zero except one marked patch, the clutter is exactly visible."""
+    digits = np.ones((5, 28, 28), np.float32)
+    x, _, layouts = synthesise(digits, np.zeros(5, int), 20, np.random.default_rng(2),
+                               n_digits=0, return_layout=True)
+    for img, lay in zip(x, layouts):
+        mask = np.zeros((100, 100), bool)
+        for px, py in lay.clutter_xy:
+            mask[py : py + 9, px : px + 9] = True
+        np.testing.assert_array_equal(img > 0, mask)  # 8 patches of 9 x 9, nothing else
+
+
+def test_synthesis_is_seeded():
+    digits, labels = _fake_digits()
+    a = synthesise(digits, labels, 5, np.random.default_rng(3))
+    b = synthesise(digits, labels, 5, np.random.default_rng(3))
+    c = synthesise(digits, labels, 5, np.random.default_rng(4))
+    np.testing.assert_array_equal(a[0], b[0])
+    assert np.abs(a[0] - c[0]).max() > 0
+
+
+def test_idx_roundtrip_and_gzip(tmp_path):
+    imgs = np.random.default_rng(0).integers(0, 256, (7, 28, 28)).astype(np.uint8)
+    labs = np.arange(7, dtype=np.uint8)
+    write_idx(tmp_path / "imgs", imgs)
+    raw = (tmp_path / "imgs").read_bytes()
+    assert raw[:4] == bytes([0, 0, 0x08, 3])
+    assert int.from_bytes(raw[4:8], "big") == 7
+    np.testing.assert_array_equal(read_idx(tmp_path / "imgs"), imgs)
+    with gzip.open(tmp_path / "labs.gz", "wb") as f:
+        f.write(bytes([0, 0, 0x08, 1]) + (7).to_bytes(4, "big") + labs.tobytes())
+    np.testing.assert_array_equal(read_idx(tmp_path / "labs.gz"), labs)
+    f32 = np.linspace(-1, 1, 6, dtype=np.float32).reshape(2, 3)
+    write_idx(tmp_path / "f", f32)
+    np.testing.assert_array_equal(read_idx(tmp_path / "f"), f32)
+    (tmp_path / "bad").write_bytes(b"\x01\x02\x08\x01" + bytes(8))
+    with pytest.raises(ValueError):
+        read_idx(tmp_path / "bad")
+    (tmp_path / "short").write_bytes(raw[:-5])
+    with pytest.raises(ValueError):
+        read_idx(tmp_path / "short")
+
+
+def test_idx_pools(tmp_path):
+    rng = np.random.default_rng(0)
+    paths = {}
+    for split, n in (("train", 30), ("test", 12)):
+        write_idx(tmp_path / f"{split}-images", rng.integers(0, 256, (n, 28, 28)).astype(np.uint8))
+        write_idx(tmp_path / f"{split}-labels", (np.arange(n) % 10).astype(np.uint8))
+        paths[f"{split}_images"] = str(tmp_path / f"{split}-images")
+        paths[f"{split}_labels"] = str(tmp_path / f"{split}-labels")
+    pools = load_pools({"mnist_idx": paths, "idx_valid_pool": 10}, np.random.default_rng(0))
+    assert len(pools.images["train"]) == 20 and len(pools.images["valid"]) == 10
+    assert len(pools.images["test"]) == 12
+    assert pools.images["train"].max() <= 1.0
+    assert "IDX" in pools.source
+
+
+def test_embedded_pools_are_disjoint():
+    pools = load_pools({"mnist_idx": None, "embedded_test_fraction": 0.2}, np.random.default_rng(0))
+    tr = pools.images["train"].reshape(len(pools.images["train"]), -1)
+    te = pools.images["test"].reshape(len(pools.images["test"]), -1)
+    assert len(tr) == 4000 and len(te) == 1000
+    assert np.bincount(pools.labels["test"]).tolist() == [100] * 10
+    tr_set = {r.tobytes() for r in tr}
+    assert sum(r.tobytes() in tr_set for r in te) <= 2  # MNIST has a few exact duplicates at most
+    np.testing.assert_array_equal(pools.images["valid"], pools.images["train"])  # valid from train pool
+
+
+def test_h5_roundtrip(tmp_path):
+    digits, labels = _fake_digits()
+    x, y = synthesise(digits, labels, 4, np.random.default_rng(0))
+    write_h5(tmp_path / "d.h5", {"train": (x, y)}, {"seed": 3})
+    xr_, yr = read_split(tmp_path / "d.h5", "train")
+    np.testing.assert_allclose(xr_, x, atol=0.5 / 255 + 1e-7)
+    np.testing.assert_array_equal(yr, y)
