@@ -215,3 +215,13 @@ def test_yaw_turns_loci_with_scapulae(fams):
     # rotation keeps the locus' horizontal extent (a rigid rotation about its centre)
     dx = tgt[:, 0, 0] - float(p[fam.index("y0_fore")]) * 1e-3
     np.testing.assert_allclose(jnp.max(jnp.hypot(dx, tgt[:, 0, 1])), 0.040, rtol=1e-3)
+
+
+def test_command_series_matches_commands(fams):
+    fam = fams["spline"]
+    p = jnp.asarray(fam.project(_params(fam, **SPLINE)))
+    tab = jax.jit(lambda q: T.command_series(fam, q, 50))(p)
+    assert tab.shape == (50, 12)
+    np.testing.assert_allclose(tab[17], fam.commands(p, 17 * T.COMMAND_DT), atol=1e-5)
+    batch = jax.vmap(lambda q: T.command_series(fam, q, 5))(jnp.stack([p, p]))
+    assert batch.shape == (2, 5, 12)

@@ -154,3 +154,17 @@ def test_transfer_init_concentrates_near_previous_optimum():
 def test_transfer_init_shape_checked():
     with pytest.raises(ValueError):
         pso.pso_init(0, 5, np.zeros(2), np.ones(2), init=np.zeros((4, 2)))
+
+
+def test_search_space_size_scales_and_shrinks():
+    lo, hi = np.zeros(3), np.array([1.0, 10.0, 100.0])
+    r = np.random.default_rng(0)
+    x = lo + r.random((200, 3)) * (hi - lo)
+    s_full = pso.search_space_size(x, lo, hi)
+    np.testing.assert_allclose(s_full, np.sqrt(1 / 12), rtol=0.1)  # uniform on [0, 1]
+    small = lo + (0.5 + 0.1 * (r.random((200, 3)) - 0.5)) * (hi - lo)
+    np.testing.assert_allclose(pso.search_space_size(small, lo, hi), 0.1 * s_full, rtol=0.15)
+    # per generation along a converging run
+    h, _ = pso.run_pso(sphere, 0, 20, 30, -5 * np.ones(4), 5 * np.ones(4))
+    s = pso.search_space_size(h.positions, -5 * np.ones(4), 5 * np.ones(4))
+    assert s.shape == (30,) and s[-1] < 0.1 * s[0]

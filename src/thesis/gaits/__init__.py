@@ -15,11 +15,13 @@ from thesis.gaits.leg import inverse3d as inverse3d
 from thesis.gaits.leg import oncilla_geometry as oncilla_geometry
 from thesis.gaits.leg import reach_boundary as reach_boundary
 from thesis.gaits.leg import reachable as reachable
+from thesis.gaits.trajectories import COMMAND_DT as COMMAND_DT
 from thesis.gaits.trajectories import FAMILIES as FAMILIES
 from thesis.gaits.trajectories import TROT_PHASE as TROT_PHASE
 from thesis.gaits.trajectories import EllipseGait as EllipseGait
 from thesis.gaits.trajectories import SineGait as SineGait
 from thesis.gaits.trajectories import SplineGait as SplineGait
+from thesis.gaits.trajectories import command_series as command_series
 from thesis.gaits.trajectories import theoretical_speed as theoretical_speed
 from thesis.gaits.transitions import schedule_commands as schedule_commands
 from thesis.gaits.transitions import schedule_state as schedule_state
@@ -27,8 +29,8 @@ from thesis.gaits.transitions import transition_commands as transition_commands
 from thesis.gaits.transitions import transition_state as transition_state
 
 __all__ = [
-    "FAMILIES", "JOINTS", "LEGS", "TROT_PHASE", "EllipseGait", "LegGeometry", "SineGait",
-    "SplineGait", "forward", "forward3d", "inverse", "inverse3d", "leg", "oncilla_geometry",
+    "COMMAND_DT", "FAMILIES", "JOINTS", "LEGS", "TROT_PHASE", "EllipseGait", "LegGeometry", "SineGait",
+    "SplineGait", "command_series", "forward", "forward3d", "inverse", "inverse3d", "leg", "oncilla_geometry",
     "reach_boundary", "reachable", "schedule_commands", "schedule_state", "theoretical_speed",
     "trajectories", "transition_commands", "transition_state", "transitions",
 ]

@@ -33,6 +33,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -318,6 +319,22 @@ class SineGait:
     def commands(self, params, t) -> jnp.ndarray:
         """(12,) joint commands [rad] at time ``t`` [s]."""
         return self.commands_at_phase(params, self.frequency(params) * t)
+
+
+#: Period of the robot's command updates [s] ("new commands to the robot every 10 ms").
+COMMAND_DT = 0.01
+
+
+def command_series(family, params, n_steps: int, dt: float = COMMAND_DT, t0: float = 0.0):
+    """Open-loop command table: (n_steps, 12) joint commands [rad] at t0 + k dt.
+
+    The gaits are open loop, so a rollout can read its servo targets from this table
+    instead of solving the IK inside the physics loop; vmap over ``params`` for a whole
+    generation of particles.
+    """
+    t = t0 + dt * jnp.arange(n_steps)
+    p = jnp.asarray(params)
+    return jax.vmap(lambda s: family.commands(p, s))(t)
 
 
 #: Family name -> class.

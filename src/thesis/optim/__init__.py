@@ -14,11 +14,14 @@ from thesis.optim.pso import History as History
 from thesis.optim.pso import PSOState as PSOState
 from thesis.optim.pso import ask as ask
 from thesis.optim.pso import best_particles as best_particles
+from thesis.optim.pso import normalise as normalise
 from thesis.optim.pso import pso_init as pso_init
 from thesis.optim.pso import run_pso as run_pso
+from thesis.optim.pso import search_space_size as search_space_size
 from thesis.optim.pso import tell as tell
 
 __all__ = [
     "CMAState", "History", "OMEGA", "PHI_G", "PHI_P", "PSOState", "ask", "best_particles",
-    "cmaes", "cmaes_init", "pso", "pso_init", "run_cmaes", "run_pso", "tell",
+    "cmaes", "cmaes_init", "normalise", "pso", "pso_init", "run_cmaes", "run_pso",
+    "search_space_size", "tell",
 ]

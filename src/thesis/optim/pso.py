@@ -318,3 +318,39 @@ def run_pso(
         fs.append(f)
         state = tell(state, f, project=project)
     return history_from(xs, fs), state
+
+
+def normalise(x: Any, lower: Any, upper: Any) -> np.ndarray:
+    """Map positions (..., d) to the unit box: (x - lower) / (upper - lower)."""
+    lower = np.asarray(lower, dtype=np.float64)
+    span = np.asarray(upper, dtype=np.float64) - lower
+    return (np.asarray(x, dtype=np.float64) - lower) / np.where(span > 0, span, 1.0)
+
+
+def search_space_size(positions: Any, lower: Any, upper: Any) -> np.ndarray:
+    """Size of the explored part of the parameter space per generation (Fig. 4.10).
+
+    "the geometric mean of the lengths of the principle component axis of the particle
+    parameters for each generation": here the axis lengths are the standard deviations
+    along the principal components of the generation's positions, after normalising
+    every parameter to the unit box (our choice; the thesis does not say how it scaled
+    parameters of different units). Axes beyond the rank (n ≤ d) are left out.
+
+    Args:
+        positions: (G, N, d) or (N, d) positions.
+
+    Returns:
+        (G,) or () geometric mean axis length (dimensionless, in box units).
+    """
+    x = normalise(positions, lower, upper)
+    single = x.ndim == 2
+    x = x[None] if single else x
+    out = []
+    for g in x:
+        c = g - g.mean(axis=0)
+        sv = np.linalg.svd(c, compute_uv=False) / np.sqrt(max(g.shape[0] - 1, 1))
+        sv = sv[: min(g.shape[0] - 1, g.shape[1])]
+        sv = np.maximum(sv, 1e-300)
+        out.append(float(np.exp(np.mean(np.log(sv)))))
+    res = np.asarray(out)
+    return res[0] if single else res
