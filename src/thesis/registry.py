@@ -16,10 +16,15 @@ EXPERIMENTS: dict[str, str] = {
     # ch2: chirp-Z spatial transformer networks
     # ch3: Oncilla gaits and turning
     # ch7: differentiable physics engine
+    "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
+    "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
-BENCHMARKS: dict[str, str] = {}
+BENCHMARKS: dict[str, str] = {
+    "physics": "ch7/table7_1",
+    "mjx": "ch7/table7_1_peers",
+}
 
 
 def resolve(key: str) -> Callable:

@@ -1,0 +1,156 @@
+"""Tab. 7.1 benchmark: controller sizes, the MJCF peer model, the servo law, dataset layout."""
+
+from __future__ import annotations
+
+import logging
+import xml.etree.ElementTree as ET
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from thesis.diffphys import bench_engine as be
+from thesis.diffphys.quadruped_mjcf import model_to_mjcf, quadruped_mjcf, servo_ctrl
+from thesis.physics import Builder, sensors
+from thesis.runctx import RunContext
+
+
+@pytest.fixture(scope="module")
+def quad():
+    return be.quadruped()
+
+
+def test_controller_sizes_are_the_thesis_counts(quad):
+    model, state = quad
+    n_sensors = int(be.sensor_vector(model, sensors(model, state)).shape[0])
+    small = be.controller_sizes(n_sensors, model.n_servo, 8, [])
+    large = be.controller_sizes(n_sensors, model.n_servo, 8, [1024, 1024])
+    assert be.count_params(small) == 1296
+    assert be.count_params(large) == 1147904
+    # the initialised pytrees really have that many weights
+    for sizes in (small, large):
+        w = be.init_controller(jax.random.key(0), sizes)
+        assert sum(int(x.size) for x in w) == be.count_params(sizes)
+        assert [x.shape for x in w] == list(zip(sizes[:-1], sizes[1:]))
+
+
+def test_controller_outputs_targets_and_memory(quad):
+    model, state = quad
+    n_in = int(be.sensor_vector(model, sensors(model, state)).shape[0])
+    w = be.init_controller(jax.random.key(1), be.controller_sizes(n_in, 8, 8, [16]),
+                           output_gain=1.0)
+    ctrl = be.make_controller(model, 8)
+    action, mem = ctrl(w, sensors(model, state), jnp.ones(8), 0.0)
+    assert action.shape == (8,) and mem.shape == (8,)
+    assert float(jnp.max(jnp.abs(mem))) < 1.0  # tanh memory
+    # the memory is an input: changing it changes the action
+    action2, _ = ctrl(w, sensors(model, state), -jnp.ones(8), 0.0)
+    assert float(jnp.max(jnp.abs(action - action2))) > 1e-4
+
+
+def _bodies(xml):
+    out = {}
+    for b in ET.fromstring(xml).iter("body"):
+        inertial = b.find("inertial")
+        joint = b.find("joint")
+        out[b.get("name")] = dict(
+            mass=float(inertial.get("mass")),
+            inertia=[float(v) for v in inertial.get("fullinertia").split()],
+            joint=None if joint is None else joint.get("name"),
+            range=None if joint is None or joint.get("range") is None
+            else [float(v) for v in joint.get("range").split()])
+    return out
+
+
+def test_mjcf_has_the_engine_bodies_masses_and_servos(quad):
+    model, _ = quad
+    xml = quadruped_mjcf(servo_kv=50.0)
+    bodies = _bodies(xml)
+    assert sorted(bodies) == sorted(model.body_names)
+    assert len(bodies) == 17
+    for i, name in enumerate(model.body_names):
+        np.testing.assert_allclose(bodies[name]["mass"], float(model.body_mass[i]), rtol=1e-6)
+        inertia = np.asarray(model.body_inertia[i])
+        np.testing.assert_allclose(bodies[name]["inertia"][:3], np.diag(inertia), rtol=1e-6)
+    hinges = {j for j, t in zip(model.joint_names, model.joint_type) if t == 0}
+    assert {b["joint"] for b in bodies.values() if b["joint"]} == hinges
+    root = ET.fromstring(xml)
+    assert float(root.find("option").get("timestep")) == pytest.approx(float(model.dt))
+    acts = root.find("actuator").findall("velocity")
+    assert [a.get("name") for a in acts] == list(model.servo_names)
+    for a, tq in zip(acts, np.asarray(model.servo_max_torque)):
+        assert [float(v) for v in a.get("forcerange").split()] == pytest.approx([-tq, tq])
+        assert float(a.get("kv")) == 50.0
+
+
+def _chain():
+    b = Builder("chain", dt=0.005)
+    b.add_plane("floor", (0, 0, 1), 0.0)
+    b.add_box("base", (0.4, 0.2, 0.1), (0, 0, 0.5), mass=3.0)
+    b.add_box("link", (0.05, 0.05, 0.3), (0.2, 0, 0.35),
+              rot=(np.cos(0.2), 0, np.sin(0.2), 0))
+    b.add_sphere("tip", 0.04, (0.2, 0, 0.2))
+    b.add_hinge("elbow", "base", "link", (0.2, 0, 0.5), (0, 1, 1), limits=(-0.3, 0.7))
+    b.add_fixed("weld", "link", "tip", (0.2, 0, 0.2))
+    b.add_contact_sphere("tip", 0.04)
+    b.add_position_servo("elbow", 20.0, 3.0, 2.0, name="elbow")
+    return b.build()
+
+
+def test_mjcf_of_a_tilted_limited_chain_matches_the_engine():
+    mujoco = pytest.importorskip("mujoco")
+    model, state = _chain()
+    xml = model_to_mjcf(model, state, imu_bodies=[0, 1])
+    bodies = _bodies(xml)
+    assert bodies["link"]["range"] == pytest.approx([-0.3, 0.7])
+    mm = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(mm)
+    mujoco.mj_forward(mm, d)
+    for i, name in enumerate(model.body_names):
+        bid = mujoco.mj_name2id(mm, mujoco.mjtObj.mjOBJ_BODY, name)
+        np.testing.assert_allclose(mm.body_mass[bid], float(model.body_mass[i]), rtol=1e-6)
+        np.testing.assert_allclose(d.xpos[bid], np.asarray(state.pos[i]), atol=1e-5)
+        np.testing.assert_allclose(d.xmat[bid].reshape(3, 3), np.asarray(state.rot[i]),
+                                   atol=1e-5)
+    jid = mujoco.mj_name2id(mm, mujoco.mjtObj.mjOBJ_JOINT, "elbow")
+    np.testing.assert_allclose(d.xaxis[jid], np.array([0, 1, 1]) / np.sqrt(2), atol=1e-5)
+    np.testing.assert_allclose(d.xanchor[jid], [0.2, 0, 0.5], atol=1e-5)
+    assert mm.nsensordata == 2 * 1 + 6 * 2 + 3
+
+
+def test_servo_ctrl_is_the_engine_servo_law():
+    q = np.array([0.0, 0.5, -0.2, 0.1], np.float32)
+    cmd = np.array([0.1, 2.0, -0.2, 0.3], np.float32)
+    kind = np.array([0, 0, 0, 1])
+    out = servo_ctrl(q, cmd, 50.0, 3.0, -0.7, 0.7, 0.01, kind)
+    # rate -clip(50 (q - clip(cmd, +-0.7)), +-3): saturated, saturated after clipping the
+    # command, inside the dead band, and a velocity servo passing its command through
+    np.testing.assert_allclose(out, [3.0, 3.0, 0.0, 0.3], rtol=1e-6)
+    assert servo_ctrl(np.array([0.0]), np.array([0.05]), 10.0, 3.0, -1, 1, 0.0,
+                      np.array([0]))[0] == pytest.approx(0.5)
+
+
+def test_dataset_layout_on_a_tiny_run():
+    cfg = {"root_seed": 3, "jax": {}, "physics": {"bench": dict(
+        batches=[1, 2], hidden_layers=[[], [4]], memory_units=8, simulated_seconds=0.03,
+        repeats=1, grad_decay=0.9, remat=False, output_gain=0.1, initial_velocity_std=0.05,
+        gpu=False)}}
+    ctx = RunContext(key="ch7/table7_1", profile="smoke", config={}, full_config=cfg,
+                     log=logging.getLogger("test"))
+    ds = be.table7_1(ctx)
+    assert dict(ds.sizes) == {"device": 1, "batch": 2, "n_params": 2, "gradient": 2}
+    assert list(ds["n_params"].values) == [81 * 16, 81 * 4 + 4 * 16]
+    assert list(ds["gradient"].values) == [0, 1]
+    for v in ("seconds", "compile_seconds", "ms_per_robot_step", "peak_memory_bytes",
+              "gradient_finite", "gradient_norm"):
+        assert ds[v].dims == ("device", "batch", "n_params", "gradient")
+        assert ds[v].attrs["units"] and ds[v].attrs["long_name"]
+    assert np.all(ds["seconds"].values > 0)
+    assert np.all(np.isnan(ds["gradient_norm"].sel(gradient=0).values))
+    assert set(np.unique(ds["gradient_finite"].sel(gradient=1).values)) <= {0.0, 1.0}
+    # ms per robot-step = seconds per simulated horizon / (batch * steps)
+    s = ds["seconds"].values * 0.03 / 10.0
+    per = 1e3 * s / (np.array([1, 2])[None, :, None, None] * 3)
+    np.testing.assert_allclose(ds["ms_per_robot_step"].values, per, rtol=1e-9)
+    assert ds.attrs["grad_decay"] == 0.9 and ds.attrs["n_steps"] == 3
