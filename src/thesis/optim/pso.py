@@ -108,7 +108,8 @@ def make_rng(key_or_rng: Any) -> np.random.Generator:
     import jax
 
     k = key_or_rng
-    if jax.dtypes.issubdtype(getattr(k, "dtype", None), jax.dtypes.prng_key):
+    dtype = getattr(k, "dtype", None)
+    if dtype is not None and jax.dtypes.issubdtype(dtype, jax.dtypes.prng_key):
         k = jax.random.key_data(k)
     words = np.asarray(k, dtype=np.uint32).ravel()
     return np.random.default_rng(np.random.SeedSequence(words.tolist()))
