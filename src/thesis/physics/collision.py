@@ -15,7 +15,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.physics.math import safe_norm, tangent_basis
+from thesis.physics.math import mv, safe_norm, tangent_basis
 from thesis.physics.types import GeomType, Model
 
 __all__ = ["sphere_centres", "sphere_plane", "sphere_sphere", "COLLISION_FUNCS", "detect"]
@@ -24,7 +24,7 @@ __all__ = ["sphere_centres", "sphere_plane", "sphere_sphere", "COLLISION_FUNCS",
 def sphere_centres(m: Model, pos, rot):
     """World centres (n_csphere, 3) of the contact spheres from extended poses [m]."""
     b = m.csphere_body
-    return pos[b] + jnp.einsum("cab,cb->ca", rot[b], m.csphere_offset)
+    return pos[b] + mv(rot[b], m.csphere_offset)
 
 
 def sphere_plane(m: Model, centres, pos, sphere, plane):

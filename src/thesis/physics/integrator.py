@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from thesis.physics.math import orthonormalize, skew
+from thesis.physics.math import inv3, mm, mtv, mv, orthonormalize, skew
 from thesis.physics.types import Model
 
 __all__ = ["integrate"]
@@ -31,9 +31,9 @@ def integrate(m: Model, pos, rot, vel, angvel):
     """
     dt = m.dt
     new_pos = pos + dt * vel
-    new_rot = orthonormalize(rot + dt * skew(angvel) @ rot, m.reortho_iterations)
+    new_rot = orthonormalize(rot + dt * mm(skew(angvel), rot), m.reortho_iterations)
     inertia = m.body_inertia
-    lw = jnp.einsum("nab,nbc,ndc,nd->na", rot, inertia, rot, angvel)  # R I R^T w
-    inv_i = jnp.linalg.inv(inertia)
-    new_w = jnp.einsum("nab,nbc,ndc,nd->na", new_rot, inv_i, new_rot, lw)
+    lw = mv(rot, mv(inertia, mtv(rot, angvel)))  # R I R^T w
+    inv_i = inv3(inertia)
+    new_w = mv(new_rot, mv(inv_i, mtv(new_rot, lw)))
     return new_pos, new_rot, new_w

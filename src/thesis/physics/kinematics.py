@@ -15,7 +15,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.physics.math import safe_norm, vee
+from thesis.physics.math import mm, mmt, mv, safe_norm, vee
 from thesis.physics.types import DofKind, JointType, Model
 
 __all__ = ["extend", "joint_frames", "joint_coordinates", "joint_rows"]
@@ -41,10 +41,10 @@ def joint_frames(m: Model, pos, rot):
     """
     b1, b2 = m.joint_body1, m.joint_body2
     rot1, rot2 = rot[b1], rot[b2]
-    r1 = jnp.einsum("jab,jb->ja", rot1, m.joint_anchor1)
-    r2 = jnp.einsum("jab,jb->ja", rot2, m.joint_anchor2)
+    r1 = mv(rot1, m.joint_anchor1)
+    r2 = mv(rot2, m.joint_anchor2)
     return dict(rot1=rot1, rot2=rot2, r1=r1, r2=r2, x1=pos[b1] + r1, x2=pos[b2] + r2,
-                f1=rot1 @ m.joint_frame1, f2=rot2 @ m.joint_frame2)
+                f1=mm(rot1, m.joint_frame1), f2=mm(rot2, m.joint_frame2))
 
 
 def _lin_jac(d, r1, r2):
@@ -95,7 +95,7 @@ def joint_coordinates(m: Model, fr, vel6):
     c2 = jnp.cross(e1, u2)
     ang_u = jnp.arctan2(jnp.sum(q2 * e1, -1), jnp.sum(q2 * c2, -1))
     # ball: rotation vector of body2 relative to body1, in body1's joint frame
-    rv = _rotvec(jnp.swapaxes(f1, -1, -2) @ f2)
+    rv = _rotvec(mm(jnp.swapaxes(f1, -1, -2), f2))
     ang_b = jnp.take_along_axis(rv, slot[:, None], axis=-1)[:, 0]
     # slider: displacement of body2's anchor along e1
     x21 = fr["x2"][j] - fr["x1"][j]
@@ -132,14 +132,14 @@ def joint_rows(m: Model, fr):
     f1, f2 = fr["f1"], fr["f2"]
     d_lin = jnp.swapaxes(f1, -1, -2)  # (nj, 3 rows, 3)
     x21 = fr["x2"] - fr["x1"]
-    err_lin = jnp.einsum("jrk,jk->jr", d_lin, x21)
+    err_lin = mv(d_lin, x21)
     ja_l, jb_l = _lin_jac(d_lin, fr["r1"][:, None], fr["r2"][:, None])
 
     a1, a2, u2 = f1[..., 0], f2[..., 0], f2[..., 1]
     # relative-rotation error (world) of fixed / slider joints: rot2 (rot1 Q0)^T
-    e_rot = vee(fr["rot2"] @ jnp.swapaxes(fr["rot1"] @ m.joint_rel_rot, -1, -2))
-    err_lock = jnp.einsum("jrk,jk->jr", d_lin, e_rot)
-    err_hinge = jnp.einsum("jrk,jk->jr", d_lin, jnp.cross(a1, a2))
+    e_rot = vee(mmt(fr["rot2"], mm(fr["rot1"], m.joint_rel_rot)))
+    err_lock = mv(d_lin, e_rot)
+    err_hinge = mv(d_lin, jnp.cross(a1, a2))
     is_h = np.asarray(m.joint_type == JointType.HINGE)[:, None]
     is_u = np.asarray(m.joint_type == JointType.UNIVERSAL)[:, None]
     err_ang = jnp.where(is_h, err_hinge, err_lock)

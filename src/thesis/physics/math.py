@@ -21,6 +21,7 @@ __all__ = [
     "quat_to_rot",
     "tangent_basis",
     "inv_spd",
+    "inv3",
 ]
 
 
@@ -80,7 +81,7 @@ def orthonormalize(a, iterations=1):
         iterations: static number of steps (model field ``reortho_iterations``).
     """
     for _ in range(int(iterations)):  # static, tiny count (1 in every shipped model)
-        a = 1.5 * a - 0.5 * a @ jnp.swapaxes(a, -1, -2) @ a
+        a = 1.5 * a - 0.5 * mm(mmt(a, a), a)
     return a
 
 
@@ -123,3 +124,35 @@ def inv_spd(a):
         m = m - m[..., :, k:k + 1] * row[..., None, :]
         m = m.at[..., k, :].set(row)
     return m[..., :, n:]
+
+
+def inv3(a):
+    """Inverse of (..., 3, 3) matrices by the adjugate (no LAPACK call; fast when batched)."""
+    c0 = jnp.cross(a[..., 1, :], a[..., 2, :])
+    c1 = jnp.cross(a[..., 2, :], a[..., 0, :])
+    c2 = jnp.cross(a[..., 0, :], a[..., 1, :])
+    det = jnp.sum(a[..., 0, :] * c0, -1)
+    return jnp.stack([c0, c1, c2], -1) / det[..., None, None]
+
+
+# Tiny contractions as broadcast-multiply-reduce: XLA on CPU fuses these into loop
+# kernels, whereas a ``dot`` on 3x3 or 6x6 operands becomes a separate library call whose
+# fixed overhead dominates at these sizes.
+def mv(a, x):
+    """Batched matrix-vector product a @ x for (..., n, k), (..., k) -> (..., n)."""
+    return jnp.sum(a * x[..., None, :], -1)
+
+
+def mtv(a, x):
+    """Batched a^T @ x for (..., n, k), (..., n) -> (..., k)."""
+    return jnp.sum(a * x[..., :, None], -2)
+
+
+def mm(a, b):
+    """Batched matrix product a @ b for (..., n, k), (..., k, p) -> (..., n, p)."""
+    return jnp.sum(a[..., :, :, None] * b[..., None, :, :], -2)
+
+
+def mmt(a, b):
+    """Batched a @ b^T for (..., n, k), (..., p, k) -> (..., n, p)."""
+    return jnp.sum(a[..., :, None, :] * b[..., None, :, :], -1)

@@ -64,19 +64,18 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
     record = tuple(record)
 
     def body(carry, _):
-        s, mem, sens = carry
-        action, mem = controller(params, sens, mem, s.time)
+        s, mem = carry
+        action, mem = controller(params, all_sensors(model, s), mem, s.time)
         s = step(model, s, action)
         if not (isinstance(grad_decay, (int, float)) and grad_decay == 1.0):
             s = decay_gradient(s, grad_decay)
-        sens = all_sensors(model, s)
+        sens = all_sensors(model, s)  # only the recorded entries survive compilation
         out = {k: (action if k == "action" else sens[k]) for k in record}
-        return (s, mem, sens), out
+        return (s, mem), out
 
     if remat:
         body = jax.checkpoint(body)
-    carry0 = (state0, memory0, all_sensors(model, state0))
-    (final, _, _), traj = jax.lax.scan(body, carry0, None, length=int(n_steps))
+    (final, _), traj = jax.lax.scan(body, (state0, memory0), None, length=int(n_steps))
     return final, traj
 
 

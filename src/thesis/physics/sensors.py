@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from thesis.physics import kinematics
+from thesis.physics.math import mtv
 from thesis.physics.types import Model, State
 
 __all__ = ["sensors", "contact_normal_force"]
@@ -46,11 +47,10 @@ def sensors(model: Model, state: State) -> dict:
     fr = kinematics.joint_frames(m, pos, rot)
     q, qdot, _, _ = kinematics.joint_coordinates(m, fr, vel6)
     acc = (s.vel - s.prev_vel) / m.dt - m.gravity
-    rt = jnp.swapaxes(s.rot, -1, -2)
     return dict(
         joint_angle=q, joint_velocity=qdot, body_pos=s.pos, body_rot=s.rot,
         body_vel=s.vel, body_angvel=s.angvel,
-        imu_acc=jnp.einsum("nab,nb->na", rt, acc),
-        imu_gyro=jnp.einsum("nab,nb->na", rt, s.angvel),
+        imu_acc=mtv(s.rot, acc),
+        imu_gyro=mtv(s.rot, s.angvel),
         contact_force=contact_normal_force(m, s),
     )

@@ -27,7 +27,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.physics.math import inv_spd
+from thesis.physics.math import inv3, inv_spd, mm, mmt, mtv, mv
 from thesis.physics.types import Model
 
 __all__ = ["inverse_mass", "solve"]
@@ -37,16 +37,16 @@ def inverse_mass(m: Model, rot_ext):
     """(inv_mass (n_body+1,), inv_inertia_world (n_body+1, 3, 3)); the world gets zeros."""
     dtype = rot_ext.dtype
     inv_m = jnp.concatenate([1.0 / m.body_mass, jnp.zeros((1,), dtype)])
-    inv_ib = jnp.linalg.inv(m.body_inertia) if m.n_body else m.body_inertia
+    inv_ib = inv3(m.body_inertia)
     inv_ib = jnp.concatenate([inv_ib, jnp.zeros((1, 3, 3), dtype)])
-    inv_iw = rot_ext @ inv_ib @ jnp.swapaxes(rot_ext, -1, -2)
+    inv_iw = mmt(mm(rot_ext, inv_ib), rot_ext)
     return inv_m, inv_iw
 
 
 def _apply_minv(j, inv_m, inv_iw):
     """M^-1 J^T for rows j (..., 6) of bodies with (inv_m (...,), inv_iw (..., 3, 3))."""
     lin = j[..., :3] * inv_m[..., None]
-    ang = jnp.einsum("...ab,...b->...a", inv_iw, j[..., 3:])
+    ang = mv(inv_iw, j[..., 3:])
     return jnp.concatenate([lin, ang], -1)
 
 
@@ -72,8 +72,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
     ba, bb = blocks["body_a"], blocks["body_b"]
     wa = _apply_minv(blocks["ja"], inv_m[ba][:, None], inv_iw[ba][:, None])
     wb = _apply_minv(blocks["jb"], inv_m[bb][:, None], inv_iw[bb][:, None])
-    a_blk = (jnp.einsum("jrk,jsk->jrs", blocks["ja"], wa)
-             + jnp.einsum("jrk,jsk->jrs", blocks["jb"], wb))
+    a_blk = mmt(blocks["ja"], wa) + mmt(blocks["jb"], wb)
     diag = jnp.diagonal(a_blk, axis1=-2, axis2=-1)
     cfm_blk = blocks["gamma"] * diag * mask
     a_soft = a_blk + jnp.eye(6, dtype=dtype) * (cfm_blk + (1.0 - mask))[..., None, :]
@@ -92,7 +91,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
 
     def velocities(lj, lr):
         dv = jnp.concatenate([
-            jnp.einsum("jrk,jr->jk", wa, lj), jnp.einsum("jrk,jr->jk", wb, lj),
+            mtv(wa, lj), mtv(wb, lj),
             wra * lr[:, None], wrb * lr[:, None]])
         return v0 + jax.ops.segment_sum(dv, seg, num_segments=nb1)
 
@@ -104,10 +103,9 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
     def sweep(_, carry):
         lj, lr = carry
         v = velocities(lj, lr)
-        jv_j = (jnp.einsum("jrk,jk->jr", blocks["ja"], v[ba])
-                + jnp.einsum("jrk,jk->jr", blocks["jb"], v[bb]))
+        jv_j = mv(blocks["ja"], v[ba]) + mv(blocks["jb"], v[bb])
         res_j = (jv_j + blocks["bias"] + cfm_blk * lj) * mask
-        lj = lj - w * jnp.einsum("jrs,js->jr", a_inv, res_j)
+        lj = lj - w * mv(a_inv, res_j)
         jv_r = jnp.sum(rows["ja"] * v[ra], -1) + jnp.sum(rows["jb"] * v[rb], -1)
         lr = project(lr - w * m_c * (jv_r + rows["bias"] + cfm * lr))
         return lj, lr

@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 
 from thesis.physics import collision, constraint, integrator, kinematics, solver
-from thesis.physics.math import safe_norm
+from thesis.physics.math import mv, safe_norm
 from thesis.physics.types import Model, State
 
 __all__ = ["step", "spring_geometry"]
@@ -23,8 +23,8 @@ __all__ = ["step", "spring_geometry"]
 def spring_geometry(m: Model, pos, rot):
     """Unit direction (n_spring, 3), length (n_spring,), and anchor offsets of springs."""
     b1, b2 = m.spring_body1, m.spring_body2
-    ra = jnp.einsum("sab,sb->sa", rot[b1], m.spring_anchor1)
-    rb = jnp.einsum("sab,sb->sa", rot[b2], m.spring_anchor2)
+    ra = mv(rot[b1], m.spring_anchor1)
+    rb = mv(rot[b2], m.spring_anchor2)
     d = pos[b2] + rb - pos[b1] - ra
     length = safe_norm(d)
     ok = length > 1e-9

@@ -1,0 +1,16 @@
+"""Robot and scene models of chapter 7 built with the engine's builder.
+
+Each constructor takes keyword overrides (time step, solver iterations, servo limits,
+camera pixels, dtype ...) so profiles can change them, and returns ``(Model, State)``.
+Every number cites its source: the thesis section, or FACTS §2.10 / the [TPX] robot JSON.
+"""
+
+from thesis.physics.models.arm4 import arm4 as arm4
+from thesis.physics.models.ball import ball as ball
+from thesis.physics.models.cartpole import cartpole as cartpole
+from thesis.physics.models.quadruped import quadruped as quadruped
+
+#: name -> constructor
+MODELS = {"ball": ball, "arm4": arm4, "quadruped": quadruped, "cartpole": cartpole}
+
+__all__ = ["ball", "arm4", "quadruped", "cartpole", "MODELS"]
