@@ -14,6 +14,11 @@ from collections.abc import Callable
 
 EXPERIMENTS: dict[str, str] = {
     # ch2: chirp-Z spatial transformer networks
+    "ch2/cluttered_mnist": "thesis.chirpz.experiments:cluttered_mnist",
+    "ch2/table2_2_ffn_spn": "thesis.chirpz.experiments:table2_2_ffn_spn",
+    "ch2/table2_2_rnn_spn": "thesis.chirpz.experiments:table2_2_rnn_spn",
+    "ch2/table2_2": "thesis.chirpz.experiments:table2_2",
+    "ch2/chirpz_scaling": "thesis.chirpz.experiments:chirpz_scaling",
     # ch3: Oncilla gaits and turning
     # ch7: differentiable physics engine
     "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
@@ -22,6 +27,7 @@ EXPERIMENTS: dict[str, str] = {
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
 BENCHMARKS: dict[str, str] = {
+    "chirpz": "ch2/chirpz_scaling",
     "physics": "ch7/table7_1",
     "mjx": "ch7/table7_1_peers",
 }

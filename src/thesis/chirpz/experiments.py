@@ -1,0 +1,287 @@
+"""Registered chapter 2 experiments: data generator, Tab. 2.2 and the scaling benchmark.
+
+- ``ch2/cluttered_mnist`` (generator): writes the HDF5 file of cluttered MNIST sequences
+  (:mod:`thesis.chirpz.data`) to ``ctx.output`` atomically.
+- ``ch2/table2_2_ffn_spn`` / ``ch2/table2_2_rnn_spn``: one model's part of Tab. 2.2 (all
+  d and transforms, every seed); two jobs so that the two halves can run side by side.
+- ``ch2/table2_2``: concatenates the two parts along ``model`` (Tab. 2.2).
+- ``ch2/chirpz_scaling``: forward and forward+backward time of the chirp-Z layer and the
+  bilinear sampler against image size; fitted exponent of the cost against n² log n (§2.4).
+
+The "none" transform has no down-sampling (§2.5, approach 4), so it is trained once per
+seed and model and its result is stored under every d (the thesis prints it once, with
+ditto marks); the attribute ``none_shared_across_d`` says so.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import numpy as np
+import xarray as xr
+
+from thesis import seeding
+from thesis.runctx import RunContext
+
+MODELS = ("ffn_spn", "rnn_spn")
+
+
+# --------------------------------------------------------------------------- data
+def cluttered_mnist(ctx: RunContext) -> None:
+    """Generate cluttered MNIST sequences (§2.5) into ``ctx.output`` (HDF5, atomic).
+
+    Splits train / valid / test of ``ch2.data.n_train / n_valid / n_test`` samples; file
+    attributes record the root seed and stream names, the digit source and the sizes.
+    """
+    from thesis.chirpz import data as D
+    from thesis.store import atomic_path
+
+    cfg = ctx.config["data"]
+    name = "ch2/cluttered_mnist"
+    pools = D.load_pools(cfg, seeding.rng(ctx.root_seed, name + "/pools"))
+    splits = {}
+    for split in ("train", "valid", "test"):
+        n = int(cfg[f"n_{split}"])
+        rng = seeding.rng(ctx.root_seed, f"{name}/{split}")
+        splits[split] = D.synthesise(
+            pools.images[split], pools.labels[split], n, rng, canvas=cfg["canvas"],
+            n_digits=cfg["n_digits"], n_clutter=cfg["n_clutter"],
+            clutter_size=cfg["clutter_size"], max_slope_deg=cfg["max_slope_deg"])
+        ctx.log.info("ch2/cluttered_mnist: %s %d samples", split, n)
+    attrs = {
+        "root_seed": ctx.root_seed,
+        "seed_streams": f"{name}/pools, {name}/train, {name}/valid, {name}/test",
+        "digit_source": pools.source,
+        "pool_sizes": json.dumps({k: int(len(v)) for k, v in pools.images.items()}),
+        "n_train": int(cfg["n_train"]), "n_valid": int(cfg["n_valid"]),
+        "n_test": int(cfg["n_test"]), "canvas": int(cfg["canvas"]),
+        "n_digits": int(cfg["n_digits"]), "n_clutter": int(cfg["n_clutter"]),
+        "clutter_size": int(cfg["clutter_size"]), "max_slope_deg": float(cfg["max_slope_deg"]),
+        "profile": ctx.profile, "thesis_ref": "§2.5",
+    }
+    with atomic_path(ctx.output) as tmp:
+        D.write_h5(tmp, splits, attrs)
+    return None
+
+
+# --------------------------------------------------------------------------- Tab. 2.2
+def _spec(cfg: dict, model: str, transform: str, d: int, canvas: int, n_digits: int):
+    from thesis.chirpz.nets import NetSpec
+    from thesis.chirpz.transforms import get_transform
+
+    w = cfg[model]
+    return NetSpec(model=model, transform=get_transform(transform, cfg["chirpz_output"]),
+                   canvas=canvas, d=d, n_digits=n_digits, loc_filters=w["loc_filters"],
+                   loc_dense=w.get("loc_dense", 0), gru_units=w.get("gru_units", 0),
+                   cls_filters=w["cls_filters"], cls_dense=w["cls_dense"],
+                   dropout=float(cfg["train"]["dropout"]))
+
+
+def _load(ctx: RunContext) -> tuple[dict, dict]:
+    import h5py
+
+    from thesis.chirpz.data import read_split
+
+    path = ctx.input("data")
+    data = {s: read_split(path, s) for s in ("train", "valid", "test")}
+    with h5py.File(path, "r") as f:
+        meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()}
+    return data, meta
+
+
+def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
+    from thesis.chirpz.train import train
+    from thesis.errors import SimulationDiverged
+
+    cfg = ctx.config
+    data, meta = _load(ctx)
+    canvas, n_digits = data["train"][0].shape[-1], data["train"][1].shape[-1]
+    seeds = [int(s) for s in cfg["seeds"]]
+    ds_, trs = [int(d) for d in cfg["grid"]["downsample"]], list(cfg["grid"]["transforms"])
+    max_ep = int(cfg["train"]["max_epochs"])
+    shape = (len(ds_), len(trs), len(seeds))
+    test = np.full(shape, np.nan)
+    best_ep = np.full(shape, np.nan)
+    secs = np.full(shape, np.nan)
+    nparams = np.full(shape[:2], np.nan)
+    curves = {k: np.full(shape + (max_ep,), np.nan) for k in ("valid_error", "train_loss", "lr")}
+    for ti, tname in enumerate(trs):
+        for di, d in enumerate(ds_):
+            if tname == "none" and di > 0:  # no down-sampling: same network for every d
+                for arr in (test, best_ep, secs):
+                    arr[di, ti] = arr[0, ti]
+                nparams[di, ti] = nparams[0, ti]
+                for arr in curves.values():
+                    arr[di, ti] = arr[0, ti]
+                continue
+            spec = _spec(cfg, model, tname, d, canvas, n_digits)
+            for si, seed in enumerate(seeds):
+                stream = f"ch2/table2_2/{model}/{tname}/d={d if tname != 'none' else 1}"
+                key = seeding.key(ctx.root_seed, stream, seed)
+                rng = seeding.rng(ctx.root_seed, stream + "/shuffle", seed)
+
+                def diverged(step, _seed=seed):
+                    raise SimulationDiverged(f"ch2/table2_2/{model}", _seed, step, "loss")
+
+                r = train(spec, data, cfg["train"], key, rng, log=ctx.log, on_nan=diverged)
+                ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
+                             model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
+                test[di, ti, si] = r.test_error
+                best_ep[di, ti, si] = r.best_epoch
+                secs[di, ti, si] = r.seconds
+                nparams[di, ti] = r.n_params
+                n = len(r.valid_error)
+                curves["valid_error"][di, ti, si, :n] = r.valid_error
+                curves["train_loss"][di, ti, si, :n] = r.train_loss
+                curves["lr"][di, ti, si, :n] = r.learning_rate
+    dims = ("d", "transform", "seed")
+    cdims = dims + ("epoch",)
+    ds = xr.Dataset(
+        {
+            "test_error": (dims, test, {"units": "1", "long_name":
+                           "per-digit test error of the best-validation parameters"}),
+            "valid_error": (cdims, curves["valid_error"], {"units": "1", "long_name":
+                            "per-digit validation error after each epoch"}),
+            "train_loss": (cdims, curves["train_loss"], {"units": "nat", "long_name":
+                           "mean training cross-entropy per digit over the epoch"}),
+            "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
+                              "learning rate used in the epoch"}),
+            "best_epoch": (dims, best_ep, {"units": "1", "long_name":
+                           "epoch of the lowest validation error (1-based)"}),
+            "train_seconds": (dims, secs, {"units": "s", "long_name":
+                              "wall time of the training run, compilation included"}),
+            "n_params": (("d", "transform"), nparams, {"units": "1", "long_name":
+                         "number of trainable parameters"}),
+        },
+        coords={"d": ds_, "transform": trs, "seed": seeds, "epoch": np.arange(1, max_ep + 1)},
+    )
+    ds["d"].attrs.update(units="1", long_name="down-sampling factor of the transform layer")
+    ds["epoch"].attrs.update(units="1", long_name="training epoch")
+    ds = ds.expand_dims(model=[model])
+    ds.attrs.update(_size_attrs(cfg, meta, model))
+    return ds
+
+
+def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
+    return {
+        "thesis_ref": "Tab. 2.2",
+        "seeds": [int(s) for s in cfg["seeds"]],
+        "n_train": int(meta.get("n_train", -1)),
+        "n_valid": int(meta.get("n_valid", -1)),
+        "n_test": int(meta.get("n_test", -1)),
+        "canvas": int(meta.get("canvas", -1)),
+        "digit_source": str(meta.get("digit_source", "")),
+        "max_epochs": int(cfg["train"]["max_epochs"]),
+        "patience": int(cfg["train"]["patience"]),
+        "batch_size": int(cfg["train"]["batch_size"]),
+        "optimizer": str(cfg["train"]["optimizer"]),
+        "learning_rate": float(cfg["train"]["learning_rate"]),
+        "chirpz_output": str(cfg["chirpz_output"]),
+        "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
+        "none_shared_across_d": 1,
+    }
+
+
+def table2_2_ffn_spn(ctx: RunContext) -> xr.Dataset:
+    """FFN-SPN half of Tab. 2.2: test error over d x transform x seed, training curves."""
+    return _model_part(ctx, "ffn_spn")
+
+
+def table2_2_rnn_spn(ctx: RunContext) -> xr.Dataset:
+    """RNN-SPN half of Tab. 2.2: test error over d x transform x seed, training curves."""
+    return _model_part(ctx, "rnn_spn")
+
+
+def table2_2(ctx: RunContext) -> xr.Dataset:
+    """Tab. 2.2: the two model parts (inputs ``ffn_spn`` and ``rnn_spn``) joined on ``model``.
+
+    Variables: test_error (model, d, transform, seed) [fraction], valid_error, train_loss
+    and learning_rate over epoch, best_epoch, train_seconds, n_params.
+    """
+    parts = []
+    for m in MODELS:
+        with xr.open_dataset(ctx.input(m), engine="h5netcdf") as f:
+            parts.append(f.load())
+    keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
+                                           "digit_source", "max_epochs", "patience",
+                                           "batch_size", "optimizer", "learning_rate",
+                                           "chirpz_output", "none_shared_across_d")}
+    for p in parts:
+        p.attrs = {}
+    ds = xr.concat(parts, dim="model")
+    ds.attrs.update(keep)
+    ds.attrs["thesis_ref"] = "Tab. 2.2"
+    ds.attrs["seeds"] = [int(s) for s in ctx.config["seeds"]]
+    ds.attrs["widths"] = json.dumps({m: ctx.config[m] for m in MODELS}, sort_keys=True)
+    return ds
+
+
+# --------------------------------------------------------------------------- scaling
+def chirpz_scaling(ctx: RunContext) -> xr.Dataset:
+    """Time of the chirp-Z layer and the bilinear sampler against image side n (§2.4).
+
+    For each n in ``ch2.bench.sizes``: a batch of ``ch2.bench.batch`` random n x n images
+    resampled to n x n (d = 1) with random 4-parameter transforms; forward and
+    forward+backward (gradient w.r.t. images and parameters) are jit-compiled, run once,
+    then timed ``repeats`` times (median). The chirp-Z cost is fitted as
+    t = c (n² log n)^b by least squares in log space; §2.4 claims b = 1.
+    """
+    import jax
+    import jax.numpy as jnp
+
+    from thesis.chirpz.transforms import get_transform
+
+    cfg = ctx.config["bench"]
+    sizes = [int(n) for n in cfg["sizes"]]
+    batch, repeats = int(cfg["batch"]), int(cfg["repeats"])
+    layers = {"chirp_z": get_transform("chirp_z", ctx.config["chirpz_output"]),
+              "bilinear_no_skew": get_transform("bilinear_no_skew")}
+    rng = seeding.rng(ctx.root_seed, "ch2/chirpz_scaling")
+    times = np.full((len(layers), 2, len(sizes), repeats), np.nan)
+    for li, (lname, layer) in enumerate(layers.items()):
+        for ni, n in enumerate(sizes):
+            img = jnp.asarray(rng.random((batch, n, n)), jnp.float32)
+            prm = jnp.asarray(np.column_stack([rng.uniform(-0.5, 0.5, batch),
+                                               rng.uniform(0.6, 1.2, batch),
+                                               rng.uniform(-0.3, 0.3, (batch, 2))]), jnp.float32)
+            fwd = jax.jit(lambda i, p, _l=layer, _n=n: _l(i, p, _n))
+            bwd = jax.jit(jax.grad(lambda i, p, _l=layer, _n=n: jnp.sum(_l(i, p, _n) ** 2),
+                                   argnums=(0, 1)))
+            for pi, fn in enumerate((fwd, bwd)):
+                jax.block_until_ready(fn(img, prm))  # compile
+                for r in range(repeats):
+                    t0 = time.perf_counter()
+                    jax.block_until_ready(fn(img, prm))
+                    times[li, pi, ni, r] = time.perf_counter() - t0
+            ctx.log.info("%s n=%d: fwd %.4f s, fwd+bwd %.4f s", lname, n,
+                         np.median(times[li, 0, ni]), np.median(times[li, 1, ni]))
+    med = np.median(times, axis=-1)
+    n = np.asarray(sizes, float)
+    x_nlog = np.log(n**2 * np.log(n))
+    expo = np.zeros((len(layers), 2))
+    expo_n = np.zeros((len(layers), 2))
+    for li in range(len(layers)):
+        for pi in range(2):
+            y = np.log(med[li, pi])
+            expo[li, pi] = np.polyfit(x_nlog, y, 1)[0]
+            expo_n[li, pi] = np.polyfit(np.log(n), y, 1)[0]
+    dims = ("layer", "pass", "size")
+    ds = xr.Dataset(
+        {
+            "seconds": (dims, med, {"units": "s", "long_name":
+                        f"median wall time per call for a batch of {batch} images"}),
+            "seconds_runs": (dims + ("repeat",), times, {"units": "s", "long_name":
+                             "wall time of every timed call"}),
+            "exponent_n2logn": (("layer", "pass"), expo, {"units": "1", "long_name":
+                                "least-squares exponent b of t = c (n^2 log n)^b"}),
+            "exponent_n": (("layer", "pass"), expo_n, {"units": "1", "long_name":
+                           "least-squares exponent of t = c n^b"}),
+        },
+        coords={"layer": list(layers), "pass": ["forward", "forward_backward"],
+                "size": sizes, "repeat": np.arange(repeats)},
+    )
+    ds["size"].attrs.update(units="px", long_name="image side n (input and output)")
+    ds.attrs.update(thesis_ref="§2.4", seeds=[0], batch=batch, repeats=repeats,
+                    backend=jax.default_backend(), device=str(jax.devices()[0]))
+    return ds

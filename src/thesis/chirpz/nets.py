@@ -1,0 +1,255 @@
+"""FFN-SPN and RNN-SPN of Tab. 2.1 in plain JAX (parameters as pytrees, explicit keys).
+
+Both networks are: localisation network -> P transform parameters (P = 4 or 6, linear
+dense layer initialised at W = 0, b = identity, as [RSTN]) -> spatial transform layer
+(:mod:`thesis.chirpz.transforms`, output side N // d) -> classification network.
+
+- FFN-SPN: localisation = [2x2 maxpool, 3x3 conv (loc_filters), 2x2 maxpool, 3x3 conv,
+  2x2 maxpool, 3x3 conv, dense (loc_dense)]; classifier = [3x3 conv (cls_filters), 2x2
+  maxpool, dropout, 3x3 conv, 2x2 maxpool, dropout, 3x3 conv, dropout, dense (cls_dense),
+  dense 3 x 10 + softmax per digit] (one transform, three heads).
+- RNN-SPN: the same localisation convolutions, their features repeated at every step of
+  a GRU (gru_units), one dense P per step -> one transform per digit; the classifier
+  (filters cls_filters) and its dense 10 + softmax are shared over the steps.
+- With the transform ``none`` there is no localisation network and no down-sampling:
+  the classifier sees the whole canvas (approach 4 of §2.5); the FFN has three heads
+  and the RNN applies its shared classifier to the same image at every step, with the
+  step's GRU state (driven by the classifier features) selecting the digit.
+
+Convolutions are 'valid' with ReLU, pools floor the size (Lasagne defaults, FACTS §3.2);
+weights are Glorot-uniform, biases zero. Images are (B, S, S) in [0, 1]; logits are
+(B, n_digits, 10).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax
+import jax.numpy as jnp
+from jax import lax
+
+from thesis.chirpz.transforms import Transform
+
+__all__ = ["NetSpec", "init_net", "apply_net", "conv2d", "maxpool2", "gru_step"]
+
+
+@dataclass(frozen=True)
+class NetSpec:
+    """Static description of one network (hashable, usable as a jit static argument).
+
+    Attributes:
+        model: "ffn_spn" or "rnn_spn".
+        transform: the spatial transform layer.
+        canvas: input side S [px]; d: down-sampling factor; n_digits: sequence length.
+        loc_filters, loc_dense (FFN), gru_units (RNN), cls_filters, cls_dense: widths.
+        dropout: dropout rate of the classifier (0 = none).
+    """
+
+    model: str
+    transform: Transform
+    canvas: int
+    d: int
+    n_digits: int
+    loc_filters: int
+    loc_dense: int
+    gru_units: int
+    cls_filters: int
+    cls_dense: int
+    dropout: float = 0.0
+
+    @property
+    def out_size(self) -> int:
+        return self.transform.out_size(self.canvas, self.d)
+
+
+def conv2d(x, w, b):
+    """'valid' 2-D convolution + bias: x (B, H, W, C), w (3, 3, C, F) -> (B, H-2, W-2, F)."""
+    y = lax.conv_general_dilated(x, w, (1, 1), "VALID", dimension_numbers=("NHWC", "HWIO", "NHWC"))
+    return y + b
+
+
+def maxpool2(x):
+    """2 x 2 max pooling with stride 2, odd borders dropped: (B, H, W, C) -> (B, H//2, W//2, C)."""
+    return lax.reduce_window(x, -jnp.inf, lax.max, (1, 2, 2, 1), (1, 2, 2, 1), "VALID")
+
+
+def _glorot(key, shape, fan_in, fan_out):
+    lim = jnp.sqrt(6.0 / (fan_in + fan_out))
+    return jax.random.uniform(key, shape, jnp.float32, -lim, lim)
+
+
+def _conv_init(key, cin, cout):
+    return {"w": _glorot(key, (3, 3, cin, cout), 9 * cin, 9 * cout), "b": jnp.zeros(cout)}
+
+
+def _dense_init(key, nin, nout):
+    return {"w": _glorot(key, (nin, nout), nin, nout), "b": jnp.zeros(nout)}
+
+
+def _conv_out(s: int, pools_before: tuple[bool, ...]) -> int:
+    """Side after a stack of [optional pool, conv] blocks."""
+    for pool in pools_before:
+        if pool:
+            s //= 2
+        s -= 2
+    return s
+
+
+LOC_STACK = (True, True, True)  # pool before each of the three localisation convs
+CLS_STACK = (False, True, True)  # conv, pool+conv, pool+conv (side arithmetic only)
+
+
+def gru_step(p, h, x):
+    """One GRU step (Cho et al. 2014, Lasagne's GRULayer form).
+
+    r = σ(x W_r + h U_r + b_r), u = σ(x W_u + h U_u + b_u),
+    c = tanh(x W_c + r ∘ (h U_c) + b_c), h' = (1 - u) ∘ h + u ∘ c.
+    Shapes: h (B, H), x (B, I) -> (B, H).
+    """
+    gx = x @ p["wx"] + p["b"]
+    gh = h @ p["wh"]
+    nh = h.shape[-1]
+    r = jax.nn.sigmoid(gx[:, :nh] + gh[:, :nh])
+    u = jax.nn.sigmoid(gx[:, nh : 2 * nh] + gh[:, nh : 2 * nh])
+    c = jnp.tanh(gx[:, 2 * nh :] + r * gh[:, 2 * nh :])
+    return (1.0 - u) * h + u * c
+
+
+def init_net(key, spec: NetSpec):
+    """Parameters (a dict pytree of float32 arrays) of the network ``spec``."""
+    keys = iter(jax.random.split(key, 16))
+    p: dict = {}
+    n_out = spec.transform.n_params
+    s_in = spec.canvas
+    # the classifier input: the transformed image (or the canvas for "none")
+    m = spec.out_size
+    side = _conv_out(m, CLS_STACK)
+    if side < 1:
+        raise ValueError(f"classifier input {m} px too small for Tab. 2.1's convolutions")
+    cls_feat = side * side * spec.cls_filters
+    p["cls_conv"] = [
+        _conv_init(next(keys), 1, spec.cls_filters),
+        _conv_init(next(keys), spec.cls_filters, spec.cls_filters),
+        _conv_init(next(keys), spec.cls_filters, spec.cls_filters),
+    ]
+    p["cls_dense"] = _dense_init(next(keys), cls_feat, spec.cls_dense)
+    heads = spec.n_digits * 10 if spec.model == "ffn_spn" else 10
+    p["cls_out"] = _dense_init(next(keys), spec.cls_dense, heads)
+    if spec.model == "rnn_spn":
+        if n_out:
+            loc_side = _conv_out(s_in, LOC_STACK)
+            gru_in = loc_side * loc_side * spec.loc_filters
+        else:
+            gru_in = cls_feat
+        h = spec.gru_units
+        p["gru"] = {
+            "wx": _glorot(next(keys), (gru_in, 3 * h), gru_in, h),
+            "wh": _glorot(next(keys), (h, 3 * h), h, h),
+            "b": jnp.zeros(3 * h),
+        }
+        if not n_out:  # "none": the GRU state modulates the shared classifier's dense layer
+            p["gru_to_cls"] = _dense_init(next(keys), h, spec.cls_dense)
+    if n_out:
+        p["loc_conv"] = [
+            _conv_init(next(keys), 1, spec.loc_filters),
+            _conv_init(next(keys), spec.loc_filters, spec.loc_filters),
+            _conv_init(next(keys), spec.loc_filters, spec.loc_filters),
+        ]
+        loc_side = _conv_out(s_in, LOC_STACK)
+        if loc_side < 1:
+            raise ValueError(f"canvas {s_in} px too small for the localisation network")
+        feat = loc_side * loc_side * spec.loc_filters
+        if spec.model == "ffn_spn":
+            p["loc_dense"] = _dense_init(next(keys), feat, spec.loc_dense)
+            nin = spec.loc_dense
+        else:
+            nin = spec.gru_units
+        p["loc_out"] = {
+            "w": jnp.zeros((nin, n_out), jnp.float32),
+            "b": jnp.asarray(spec.transform.identity, jnp.float32),
+        }
+    return p
+
+
+def _dropout(key, x, rate, train):
+    if not train or rate <= 0.0:
+        return x
+    keep = jax.random.bernoulli(key, 1.0 - rate, x.shape)
+    return jnp.where(keep, x / (1.0 - rate), 0.0)
+
+
+def _loc_features(p, img):
+    x = img[..., None]
+    for layer in p["loc_conv"]:
+        x = jax.nn.relu(conv2d(maxpool2(x), layer["w"], layer["b"]))
+    return x.reshape(x.shape[0], -1)
+
+
+def _cls_features(p, img, key, rate, train):
+    """Tab. 2.1 classifier convs: conv, pool, dropout, conv, pool, dropout, conv, dropout."""
+    x = img[..., None]
+    k = jax.random.split(key, 3)
+    c1, c2, c3 = p["cls_conv"]
+    x = _dropout(k[0], maxpool2(jax.nn.relu(conv2d(x, c1["w"], c1["b"]))), rate, train)
+    x = _dropout(k[1], maxpool2(jax.nn.relu(conv2d(x, c2["w"], c2["b"]))), rate, train)
+    x = _dropout(k[2], jax.nn.relu(conv2d(x, c3["w"], c3["b"])), rate, train)
+    return x.reshape(x.shape[0], -1)
+
+
+def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_params=False):
+    """Logits (B, n_digits, 10) of the network ``spec`` on images (B, S, S).
+
+    ``key`` drives dropout (only used when ``train`` and ``spec.dropout > 0``). With
+    ``return_params`` also returns the transform parameters: (B, P) for FFN-SPN,
+    (B, n_digits, P) for RNN-SPN (None for "none").
+    """
+    if key is None:
+        key = jax.random.key(0)
+    b = images.shape[0]
+    t = spec.transform
+    rate = spec.dropout
+    nd = spec.n_digits
+    if spec.model == "ffn_spn":
+        if t.n_params:
+            h = jax.nn.relu(_loc_features(p, images) @ p["loc_dense"]["w"] + p["loc_dense"]["b"])
+            theta = h @ p["loc_out"]["w"] + p["loc_out"]["b"]
+            x = t(images, theta, spec.out_size)
+        else:
+            theta, x = None, images
+        f = _cls_features(p, x, key, rate, train)
+        f = jax.nn.relu(f @ p["cls_dense"]["w"] + p["cls_dense"]["b"])
+        logits = (f @ p["cls_out"]["w"] + p["cls_out"]["b"]).reshape(b, nd, 10)
+        return (logits, theta) if return_params else logits
+
+    # RNN-SPN
+    g = p["gru"]
+    h0 = jnp.zeros((b, g["wh"].shape[0]), images.dtype)
+    if t.n_params:
+        feat = _loc_features(p, images)
+
+        def step(h, _):
+            h = gru_step(g, h, feat)
+            return h, h @ p["loc_out"]["w"] + p["loc_out"]["b"]
+
+        _, theta = lax.scan(step, h0, None, length=nd)  # (nd, B, P)
+        theta = jnp.swapaxes(theta, 0, 1)  # (B, nd, P)
+        crops = t(
+            jnp.repeat(images, nd, axis=0), theta.reshape(b * nd, -1), spec.out_size
+        )  # (B*nd, M, M), sample-major
+        f = _cls_features(p, crops, key, rate, train)
+        f = jax.nn.relu(f @ p["cls_dense"]["w"] + p["cls_dense"]["b"])
+    else:
+        theta = None
+        feat = _cls_features(p, images, key, rate, train)
+
+        def step(h, _):
+            h = gru_step(g, h, feat)
+            return h, h
+
+        _, hs = lax.scan(step, h0, None, length=nd)  # (nd, B, H)
+        pre = feat @ p["cls_dense"]["w"] + p["cls_dense"]["b"]
+        mod = jnp.einsum("tbh,hk->btk", hs, p["gru_to_cls"]["w"]) + p["gru_to_cls"]["b"]
+        f = jax.nn.relu(pre[:, None, :] + mod).reshape(b * nd, -1)
+    logits = (f @ p["cls_out"]["w"] + p["cls_out"]["b"]).reshape(b, nd, 10)
+    return (logits, theta) if return_params else logits
