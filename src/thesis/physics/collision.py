@@ -49,7 +49,7 @@ def sphere_sphere(m: Model, centres, pos, sphere1, sphere2):
     d = c2 - c1
     length = safe_norm(d)
     ok = length > 1e-9
-    up = jnp.asarray([0.0, 0.0, 1.0], d.dtype)
+    up = jnp.broadcast_to(jnp.asarray([0.0, 0.0, 1.0], d.dtype), d.shape)
     n = jnp.where(ok[:, None], d / jnp.where(ok, length, 1.0)[:, None], up)
     dist = length - r1 - r2
     point = 0.5 * (c1 + r1[:, None] * n + c2 - r2[:, None] * n)

@@ -22,6 +22,7 @@ __all__ = [
     "tangent_basis",
     "inv_spd",
     "inv3",
+    "rodrigues",
 ]
 
 
@@ -156,3 +157,20 @@ def mm(a, b):
 def mmt(a, b):
     """Batched a @ b^T for (..., n, k), (..., p, k) -> (..., n, p)."""
     return jnp.sum(a[..., :, None, :] * b[..., None, :, :], -1)
+
+
+def rodrigues(phi):
+    """Rotation matrices exp([phi]x) of rotation vectors phi (..., 3) (Rodrigues).
+
+    ``I + a [phi]x + b [phi]x^2`` with a = sin(t)/t, b = (1 - cos t)/t^2, t = |phi|;
+    Taylor series below t = 1e-3 keep values and gradients finite at phi = 0.
+    """
+    t2 = jnp.sum(phi * phi, -1)
+    small = t2 < 1e-6
+    t2s = jnp.where(small, 1.0, t2)
+    t = jnp.sqrt(t2s)
+    a = jnp.where(small, 1.0 - t2 / 6.0, jnp.sin(t) / t)
+    b = jnp.where(small, 0.5 - t2 / 24.0, (1.0 - jnp.cos(t)) / t2s)
+    k = skew(phi)
+    eye = jnp.broadcast_to(jnp.eye(3, dtype=phi.dtype), k.shape)
+    return eye + a[..., None, None] * k + b[..., None, None] * mm(k, k)

@@ -46,7 +46,7 @@ def sensors(model: Model, state: State) -> dict:
     pos, rot, vel6 = kinematics.extend(m, s.pos, s.rot, s.vel, s.angvel)
     fr = kinematics.joint_frames(m, pos, rot)
     q, qdot, _, _ = kinematics.joint_coordinates(m, fr, vel6)
-    acc = (s.vel - s.prev_vel) / m.dt - m.gravity
+    acc = (s.vel - s.prev_vel) / m.dt - m.gravity[None, :]
     return dict(
         joint_angle=q, joint_velocity=qdot, body_pos=s.pos, body_rot=s.rot,
         body_vel=s.vel, body_angvel=s.angvel,

@@ -75,7 +75,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
     a_blk = mmt(blocks["ja"], wa) + mmt(blocks["jb"], wb)
     diag = jnp.diagonal(a_blk, axis1=-2, axis2=-1)
     cfm_blk = blocks["gamma"] * diag * mask
-    a_soft = a_blk + jnp.eye(6, dtype=dtype) * (cfm_blk + (1.0 - mask))[..., None, :]
+    a_soft = a_blk + jnp.eye(6, dtype=dtype)[None] * (cfm_blk + (1.0 - mask))[..., None, :]
     a_inv = inv_spd(a_soft)
 
     # --- scalar rows ---

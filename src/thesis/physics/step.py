@@ -45,7 +45,7 @@ def step(model: Model, state: State, action) -> State:
     m, s = model, state
     dt = m.dt
     with jax.named_scope("external_forces"):
-        vel0 = s.vel + dt * m.gravity
+        vel0 = s.vel + dt * m.gravity[None, :]
         pos, rot, v0 = kinematics.extend(m, s.pos, s.rot, vel0, s.angvel)
     with jax.named_scope("constraints"):
         fr = kinematics.joint_frames(m, pos, rot)

@@ -1,0 +1,27 @@
+"""Strict JAX settings for every test (STYLE "What our project should absorb", point 7).
+
+* ``jax_numpy_rank_promotion = "raise"``: no silent broadcasting between arrays of
+  different ranks (scalars excepted), so shape bugs fail loudly;
+* ``jax_numpy_dtype_promotion = "strict"``: no silent float32 -> float64 promotion;
+* the ``x64`` fixture runs a test in float64 (gradient and finite-difference checks).
+Tests never assert wall-clock time; long ones carry the ``slow`` marker.
+"""
+
+from __future__ import annotations
+
+import jax
+import pytest
+
+jax.config.update("jax_numpy_rank_promotion", "raise")
+jax.config.update("jax_numpy_dtype_promotion", "strict")
+
+
+@pytest.fixture
+def x64():
+    """Enable float64 for the duration of one test, then restore the previous setting."""
+    previous = jax.config.jax_enable_x64
+    jax.config.update("jax_enable_x64", True)
+    try:
+        yield
+    finally:
+        jax.config.update("jax_enable_x64", previous)

@@ -1,0 +1,50 @@
+"""math.py: eq. 7.1 re-orthonormalisation, safe norms, bases and small inverses."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from thesis.physics.math import (inv3, inv_spd, orthonormalize, quat_to_rot, safe_norm,
+                                 safe_normalize, tangent_basis)
+
+
+def test_orthonormalize_contracts_error_quadratically():
+    rng = np.random.default_rng(0)
+    r = quat_to_rot(rng.normal(size=4))
+    a = r + 1e-2 * rng.normal(size=(3, 3))
+    e0 = np.abs(a.T @ a - np.eye(3)).max()
+    b = np.asarray(orthonormalize(jnp.asarray(a), 1))
+    e1 = np.abs(b.T @ b - np.eye(3)).max()
+    assert e1 < 5 * e0 ** 2  # Newton-Schulz: quadratic convergence
+    assert np.abs(b - r).max() < 2e-2
+
+
+def test_safe_norm_gradient_finite_at_zero():
+    g = jax.grad(lambda x: safe_norm(x))(jnp.zeros(3))
+    assert np.all(np.isfinite(g)) and np.all(g == 0)
+    g2 = jax.grad(lambda x: safe_norm(x))(jnp.asarray([3.0, 4.0, 0.0]))
+    np.testing.assert_allclose(g2, [0.6, 0.8, 0.0], rtol=1e-6)
+    g3 = jax.grad(lambda x: safe_normalize(x)[0])(jnp.zeros(3))
+    assert np.all(np.isfinite(g3))
+
+
+def test_tangent_basis_orthonormal():
+    rng = np.random.default_rng(1)
+    n = rng.normal(size=(64, 3))
+    n[0] = [0, 0, -1]
+    n[1] = [0, 0, 1]
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    t1, t2 = (np.asarray(t) for t in tangent_basis(jnp.asarray(n)))
+    for a, b in ((t1, t2), (t1, n), (t2, n)):
+        np.testing.assert_allclose(np.sum(a * b, 1), 0, atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(t1, axis=1), 1, atol=1e-6)
+    np.testing.assert_allclose(np.cross(t1, t2), n, atol=1e-5)
+
+
+def test_small_inverses_match_numpy():
+    rng = np.random.default_rng(2)
+    x = rng.normal(size=(5, 6, 6))
+    spd = x @ np.swapaxes(x, 1, 2) + 0.5 * np.eye(6)
+    np.testing.assert_allclose(inv_spd(jnp.asarray(spd)), np.linalg.inv(spd), rtol=2e-3, atol=1e-4)
+    a = rng.normal(size=(5, 3, 3)) + 3 * np.eye(3)
+    np.testing.assert_allclose(inv3(jnp.asarray(a)), np.linalg.inv(a), rtol=1e-4, atol=1e-5)
