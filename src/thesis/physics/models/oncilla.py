@@ -1,0 +1,229 @@
+"""The Oncilla quadruped of thesis ch. 3 (§3.2.1) and §4.5 on the shared engine.
+
+What the thesis and FACTS §5 fix, and what had to be chosen (every number below cites
+its reason; nothing is fitted to a result of the thesis):
+
+* **Mass 5.1 kg** (FACTS §5). Split: each leg 0.27 kg (femur 0.10, knee drum 0.03,
+  tibia 0.08, foot 0.06: light segments, the motors sit in the body, §3.2.1 "low-inertia
+  actuator", "actuated through a cable mechanism by a second actuator in the main
+  body"), the rest (4.02 kg) in the trunk box, which carries the 8 hip/knee motors, the
+  4 scapula servos, the Roboard and the battery (§4.5).
+* **Trunk** 0.36 x 0.16 x 0.07 m with the hips at (+-0.15, +-0.08) m, 0.02 m below its
+  centre: "large-cat sized" (FACTS §5); no public source gives the body dimensions
+  (FACTS §5 "Not found"), so this is an assumption. The 0.30 m hip spacing is about twice
+  the longest stride of Tab. 3.1 (2a = 182 mm) so fore and hind feet never collide.
+* **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (femur 65 mm, tibia
+  70 mm, foot 40 mm, foot segment kept parallel to the femur), joint ranges from
+  :func:`thesis.gaits.leg.oncilla_geometry` (hip [-30, 65] deg, knee from the 100-167 mm
+  reach, scapula -5..+10 deg = "about 5 deg of adduction and 10 deg of abduction",
+  §3.3.2.5). Bodies per leg: femur, knee drum, tibia, foot. The pantograph's parallel
+  link (hip -> upper end of the foot segment, length = tibia) is massless and modelled
+  as a stiff spring (``link_stiffness``) between the femur's hip point and the foot
+  segment, which closes the parallelogram without a loop joint.
+* **Scapula and hip**: one universal joint trunk -> femur at the hip point; its first
+  axis (body x, sign per side so that + = abduction) is the scapula servo, its second
+  (about -y, so + = femur forward, the hip convention of :mod:`thesis.gaits.leg`) the
+  hip servo.
+* **Knee: cable + extension spring** (§3.2.1, Fig. 3.1b). The knee motor winds a cable
+  that *flexes* the knee; a spring *extends* it. Modelled as a drum body on the knee
+  axis driven by the knee servo (femur -> drum hinge, the cable length set by the
+  motor) and the tibia hinged on the drum (drum -> tibia hinge, same axis) with
+  (a) a joint limit at 0, so the tibia cannot open beyond what the cable allows (taut
+  cable), but may fold further (slack cable), and (b) the extension spring on that
+  hinge (``knee_spring`` N m/rad, preload ``knee_preload`` rad). Under the body weight
+  the knee folds beyond the commanded angle until the spring balances the load: the
+  compression of §3.3.1.2 that makes the robot slower than the theoretical speed.
+  The spring rate (10 N m/rad, preload 0.02 rad) is chosen so that standing on four
+  legs folds the knees by about 0.05 rad and lowers the hips by about 1 cm (7 % of the
+  hip height), more in the two-leg stance of a trot; no public value exists (FACTS §5
+  "Not found: spring stiffness"). The drum carries the knee motor's rotor inertia
+  reflected through the cable (an invisible 0.2 m, 30 g box: 2e-4 kg m^2, an
+  assumption); without it the 2e-6 kg m^2 drum made the engine's block-Jacobi solver
+  (thesis.physics.solver) diverge within one step and the legs fold.
+* **Solver**: 15 block-Jacobi sweeps per 2.5 ms step with relaxation 0.5 (the engine
+  default 1.0 diverged on these chains of light bodies hanging from a 4 kg trunk; at
+  dt 5 ms, 20 sweeps at 0.3 left the trunk bouncing by 2 cm and 30 at 0.5 stood).
+* **Servos** (position servos of FACTS §2.7): gain 50 1/s (as the engine's other
+  robots); hip and knee (brushless, §4.5) 4 N m, 12 rad/s (a 2 Hz trot needs about
+  2 pi 2 0.5 = 6.3 rad/s at the hip); scapula (RC servo) 2 N m, 8 rad/s. Commands are
+  the *thesis* joint angles of :mod:`thesis.gaits.leg` (hip from the downward vertical,
+  inner knee angle, scapula); :func:`commands_to_action` subtracts the build pose.
+  New commands every 10 ms (§3.2.2), held in between; the physics step ``dt`` is
+  2.5 ms (four steps per command): at 5 ms some gaits (fast leg swings from the settle
+  pose) made the engine diverge to NaN within 0.1 s, at 2.5 ms the same gaits walk.
+* **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
+  0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
+  lower corners catch a fall.
+* **Camera** (§3.2.1): the Wii remote IR camera, 1024 x 768 pixels, looking forward from
+  the front of the trunk; a 33 x 25 deg field of view (the commonly quoted horizontal
+  33 deg of that module; square pixels give the vertical). Focal length 1 mm and sensor
+  (2 tan 16.5 deg, 0.75 of it) mm (only the ratio matters).
+* **LED and distance sensor** (§3.2.2, Fig. 3.2): the infrared LED sits at the front of
+  the treadmill, ``led_distance`` ahead of the robot at ``led_height``; the treadmill
+  keeps that distance constant, so :func:`led_position` puts it at the trunk's current
+  forward position plus ``led_distance`` (on the treadmill's centre line y = 0). The
+  Sharp distance sensor (§4.5) measures along the trunk's forward axis to that front
+  wall (:func:`distance_sensor`).
+
+Servo order (``SERVO_NAMES``): per leg LF, RF, LH, RH the scapula, hip and knee: the
+order of :data:`thesis.gaits.leg.LEGS` x :data:`thesis.gaits.leg.JOINTS`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+
+from thesis.gaits import leg as L
+from thesis.physics.builder import Builder
+
+#: Total mass [kg] (FACTS §5).
+MASS = 5.1
+#: Leg segment masses [kg]: femur, knee drum, tibia, foot.
+LEG_MASSES = (0.10, 0.03, 0.08, 0.06)
+#: Trunk size [m] (length, width, height).
+TRUNK = (0.36, 0.16, 0.07)
+#: Hip positions relative to the trunk centre [m] (LEGS order).
+HIPS = ((0.15, 0.08, -0.02), (0.15, -0.08, -0.02), (-0.15, 0.08, -0.02), (-0.15, -0.08, -0.02))
+#: Design depth of the feet below the hips at build time [m] (mid Tab. 4.1 x0 range).
+BUILD_DEPTH = 0.142
+#: Toe contact sphere radius [m].
+TOE_RADIUS = 0.010
+#: Camera pixels (Wii remote IR camera, §3.2.1).
+CAMERA_PIXELS = (1024, 768)
+#: Commands per second (§3.2.2: "new commands to the robot every 10 ms").
+COMMAND_PERIOD = 0.01
+
+SERVO_NAMES = tuple(f"{leg}_{j}" for leg in L.LEGS for j in L.JOINTS)
+
+
+def _u(phi):
+    """Unit vector (x, z) of a segment at angle phi from the downward vertical."""
+    return np.array([math.sin(phi), 0.0, -math.cos(phi)])
+
+
+def _roty(phi):
+    """Rotation about y taking a box's long (z) axis onto a segment at angle phi."""
+    c, s = math.cos(-phi), math.sin(-phi)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def build_pose(geom: L.LegGeometry | None = None, depth: float = BUILD_DEPTH):
+    """(hip, knee) [rad] of the build pose: toe straight below the hip at ``depth`` [m]."""
+    geom = geom or L.oncilla_geometry()
+    a, b = float(geom.femur) + float(geom.foot), float(geom.tibia)
+    # law of cosines on the two-link equivalent (numpy: safe inside traced code)
+    knee = math.acos((a * a + b * b - depth * depth) / (2 * a * b))
+    hip = math.acos((a * a + depth * depth - b * b) / (2 * a * depth))
+    return hip, knee
+
+
+def oncilla(*, dt=0.0025, solver_iterations=15, relaxation=0.5, servo_gain=50.0, hip_torque=4.0,
+            knee_torque=4.0, scapula_torque=2.0, hip_velocity=12.0, knee_velocity=12.0,
+            scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
+            link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
+            drum_size=0.2,
+            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32):
+    """Build the Oncilla on a flat floor; returns ``(Model, State)``.
+
+    Args:
+        dt: physics step [s] (commands stay at 10 ms, see module docstring).
+        hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
+        hip_velocity, knee_velocity, scapula_velocity: servo speed limits [rad/s].
+        knee_spring [N m/rad], knee_preload [rad], knee_damping [N m s/rad]: the knee's
+            extension spring acting against the cable.
+        link_stiffness [N/m], link_damping [N s/m]: the pantograph's parallel link.
+        drum_size: edge [m] of the invisible knee-drum box whose inertia stands for the
+            reflected rotor inertia of the knee motor.
+    The servo commands of :func:`commands_to_action` are in thesis joint angles.
+    """
+    geom = geom or L.oncilla_geometry()
+    hip0, knee0 = build_pose(geom)
+    b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
+                relaxation=relaxation,
+                restitution=restitution, contact_slop=0.001)
+    b.add_plane("floor", (0, 0, 1), 0.0, color=(0.3, 0.3, 0.3))
+    m_leg = sum(LEG_MASSES)
+    z_trunk = BUILD_DEPTH + TOE_RADIUS - HIPS[0][2]
+    b.add_box("trunk", TRUNK, (0, 0, z_trunk), mass=MASS - 4 * m_leg, color=(0.2, 0.4, 0.8))
+    lx, ly, lz = (t / 2 for t in TRUNK)
+    for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+        b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
+    femur, tibia, foot = geom.femur, geom.tibia, geom.foot
+    for leg, side, (hx, hy, hz) in zip(L.LEGS, L.SIDES, HIPS):
+        hip = np.array([hx, hy, z_trunk + hz])
+        knee = hip + femur * _u(hip0)
+        t_dir = _u(hip0 + knee0 - math.pi)
+        heel = knee + tibia * t_dir
+        toe = heel + foot * _u(hip0)
+        top = heel - femur * _u(hip0)  # upper end of the foot segment (parallelogram)
+        mf, md, mt, mfo = LEG_MASSES
+        b.add_box(f"{leg}_femur", (0.02, 0.02, femur), (hip + knee) / 2, rot=_roty(hip0),
+                  mass=mf, color=(0.9, 0.7, 0.1))
+        b.add_box(f"{leg}_drum", (drum_size, drum_size, drum_size), knee, mass=md, visible=False)
+        b.add_box(f"{leg}_tibia", (0.015, 0.015, tibia), (knee + heel) / 2,
+                  rot=_roty(hip0 + knee0 - math.pi), mass=mt, color=(0.9, 0.3, 0.1))
+        b.add_box(f"{leg}_foot", (0.012, 0.012, femur + foot), (top + toe) / 2,
+                  rot=_roty(hip0), mass=mfo, color=(0.3, 0.3, 0.3))
+        lim_s = (geom.scapula_min, geom.scapula_max)
+        lim_h = (geom.hip_min - hip0, geom.hip_max - hip0)
+        b.add_universal(f"{leg}_shoulder", "trunk", f"{leg}_femur", hip, (side, 0, 0),
+                        (0, -1, 0), limits=(lim_s, lim_h))
+        b.add_hinge(f"{leg}_knee", f"{leg}_femur", f"{leg}_drum", knee, (0, -1, 0),
+                    limits=(geom.knee_min - knee0, geom.knee_max - knee0))
+        b.add_hinge(f"{leg}_cable", f"{leg}_drum", f"{leg}_tibia", knee, (0, -1, 0),
+                    limits=(-1.2, 0.0))
+        b.add_joint_spring(f"{leg}_cable", knee_spring, knee_damping, rest_angle=knee_preload)
+        b.add_hinge(f"{leg}_heel", f"{leg}_tibia", f"{leg}_foot", heel, (0, -1, 0))
+        b.add_spring(f"{leg}_link", f"{leg}_femur", f"{leg}_foot", hip, top, link_stiffness,
+                     link_damping)
+        b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS, (0, 0, -(femur + foot) / 2))
+        b.add_position_servo(f"{leg}_shoulder", servo_gain, scapula_torque, scapula_velocity,
+                             axis_index=0, name=f"{leg}_scapula")
+        b.add_position_servo(f"{leg}_shoulder", servo_gain, hip_torque, hip_velocity,
+                             axis_index=1, name=f"{leg}_hip")
+        b.add_position_servo(f"{leg}_knee", servo_gain, knee_torque, knee_velocity,
+                             name=f"{leg}_knee")
+    # onboard camera at the front of the trunk: camera z = body x, x = -body y, y = -body z
+    cam_rot = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
+    b.add_camera("onboard", "trunk", (lx, 0.0, 0.0), cam_rot, 1e-3, (fw, 0.75 * fw),
+                 camera_pixels)
+    model, state = b.build(dtype)
+    return model, state
+
+
+def build_offsets(geom: L.LegGeometry | None = None) -> np.ndarray:
+    """(12,) thesis joint angles [rad] of the build pose (scapula 0, hip0, knee0 per leg)."""
+    hip0, knee0 = build_pose(geom)
+    return np.tile(np.array([0.0, hip0, knee0]), 4)
+
+
+def commands_to_action(commands, geom: L.LegGeometry | None = None):
+    """Servo targets (12,) [rad, engine angles] for thesis joint commands (..., 12) [rad]."""
+    return jnp.asarray(commands) - jnp.asarray(build_offsets(geom), jnp.asarray(commands).dtype)
+
+
+def trunk_index(model) -> int:
+    """Index of the trunk body."""
+    return model.body("trunk")
+
+
+def led_position(trunk_pos, led_distance=1.5, led_height=0.10, lateral=0.0):
+    """(..., 3) world position of the LED [m]: ``led_distance`` ahead of the trunk's
+    forward position (the treadmill keeps the distance constant, §3.2.2), at the track's
+    centre line ``lateral`` and ``led_height`` above the belt."""
+    x = trunk_pos[..., 0] + led_distance
+    return jnp.stack([x, jnp.full_like(x, lateral), jnp.full_like(x, led_height)], axis=-1)
+
+
+def distance_sensor(trunk_pos, trunk_rot, wall_x):
+    """Reading [m] of the forward distance sensor (§4.5): distance from the trunk front
+    along the trunk's x axis to the wall plane x = ``wall_x`` (inf if facing away)."""
+    fwd = trunk_rot[..., :, 0]
+    front = trunk_pos + TRUNK[0] / 2 * fwd
+    cos = fwd[..., 0]
+    return jnp.where(cos > 1e-6, (wall_x - front[..., 0]) / jnp.where(cos > 1e-6, cos, 1.0),
+                     jnp.inf)
