@@ -1,0 +1,228 @@
+"""Batched gait evaluation on the simulated Oncilla (thesis §3.2.2-§3.2.5).
+
+One call of :func:`simulate` runs a whole batch of robots (a PSO generation, a frequency
+sweep, a set of turning strategies) in one ``batched_rollout`` of the engine. Every robot
+receives its own command parameters through the rollout's per-robot controller memory;
+commands are recomputed every 10 ms and held in between (§3.2.2), while the physics
+runs at the model's finer ``dt``.
+
+Evaluation protocol of one gait (§3.2.4-3.2.5, on the treadmill the gaits run one after
+another; here each particle is simulated from standing):
+
+* ``settle`` seconds standing in the outgoing gait's pose at phase 0;
+* a §3.2.5 transition of ``t_transition`` seconds from the outgoing gait (the previous
+  particle in evaluation order, as on the treadmill) to the gait under test;
+* ``t_run`` seconds of the gait under test: the evaluation window.
+
+Fitness (eq. 3.3): ``distance - sigma_x / 150 - sigma_y / 300`` with the distance walked
+forward in the window [m] and sigma_x, sigma_y the standard deviations [pixels] of the
+LED's position in the onboard camera's 1024 x 768 image, sampled every 10 ms (the Wii
+camera's 100 Hz), obtained with the engine camera's ``project_points``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+import types
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from thesis.gaits import transitions
+from thesis.physics import batched_rollout
+from thesis.physics.camera import project_points
+from thesis.physics.models import oncilla as O
+
+#: Command period [s] (§3.2.2).
+COMMAND_PERIOD = O.COMMAND_PERIOD
+
+
+def command_time(t):
+    """Time of the last command at or before ``t`` [s] (commands held for 10 ms)."""
+    return jnp.floor(t / COMMAND_PERIOD + 1e-3) * COMMAND_PERIOD
+
+
+def batch_states(state, n: int, lateral=None):
+    """Stack ``n`` copies of ``state`` (leading batch axis); ``lateral`` (n,) shifts each
+    robot sideways [m] (used by the tracking experiment)."""
+    s = jax.tree.map(lambda x: jnp.broadcast_to(x, (n,) + x.shape), state)
+    if lateral is not None:
+        shift = jnp.zeros((n, 1, 3), s.pos.dtype).at[:, 0, 1].set(jnp.asarray(lateral, s.pos.dtype))
+        s = s.replace(pos=s.pos + shift)
+    return s
+
+
+@functools.lru_cache(maxsize=32)
+def _compiled(command_fn, n_steps: int, stride: int):
+    """jit of a batched rollout for a given command function and length (cached)."""
+
+    def controller(_, sens, memory, t):
+        cmd = command_fn(memory, command_time(t), sens)
+        return O.commands_to_action(cmd).astype(sens["body_pos"].dtype), memory
+
+    def run(model, states0, memory):
+        _, traj = batched_rollout(model, states0, controller, None, n_steps, memory0=memory,
+                                  batch_memory=True, record=("body_pos", "body_rot"))
+        pos = traj["body_pos"][:, stride - 1::stride]
+        rot = traj["body_rot"][:, stride - 1::stride]
+        return pos, rot
+
+    return jax.jit(run)
+
+
+def simulate(model, state0, command_fn, memory, duration: float, lateral=None):
+    """Simulate a batch of robots under ``command_fn``.
+
+    Args:
+        model, state0: the Oncilla (:func:`thesis.physics.models.oncilla.oncilla`).
+        command_fn: hashable pure function ``(memory_i, t_cmd, sensors) -> (12,)`` thesis
+            joint commands [rad] (LEGS x JOINTS order) for one robot.
+        memory: pytree of per-robot command parameters, leading axis B.
+        duration: simulated time [s].
+        lateral: optional (B,) initial sideways offsets [m].
+
+    Returns:
+        dict with ``pos`` (B, K, n_body, 3) and ``rot`` (B, K, n_body, 3, 3) body poses
+        sampled every command period (K = duration / 10 ms), ``t`` (K,) [s], and
+        ``wall`` the wall time of the call [s] and ``robot_seconds`` = B * duration.
+    """
+    batch = jax.tree.leaves(memory)[0].shape[0]
+    stride = int(round(COMMAND_PERIOD / float(model.dt)))
+    n_cmd = int(round(duration / COMMAND_PERIOD))
+    fn = _compiled(command_fn, n_cmd * stride, stride)
+    t0 = time.perf_counter()
+    pos, rot = fn(model, batch_states(state0, batch, lateral), memory)
+    pos = np.asarray(pos)
+    wall = time.perf_counter() - t0
+    rot = np.asarray(rot)
+    t = (np.arange(n_cmd) + 1) * COMMAND_PERIOD
+    return dict(pos=pos, rot=rot, t=t, wall=wall, robot_seconds=batch * duration)
+
+
+# ------------------------------------------------------------------- gait commands
+@functools.lru_cache(maxsize=32)
+def gait_command_fn(family, settle: float, t_transition: float):
+    """Command function of the evaluation protocol for a gait ``family``: memory holds
+    ``p_from`` and ``p_to`` (P,) per robot (see module docstring)."""
+
+    def fn(mem, t, sens):
+        return transitions.transition_commands(family, mem["p_from"], mem["p_to"],
+                                               t - settle, t_transition)
+
+    return fn
+
+
+# ------------------------------------------------------------------- measurements
+def led_pixels(model, pos, rot, led_distance: float, led_height: float, lateral=0.0):
+    """(..., 2) pixel position (column, row) of the LED in the onboard camera.
+
+    Args:
+        pos, rot: (..., n_body, 3) and (..., n_body, 3, 3) body poses.
+    """
+    trunk = O.trunk_index(model)
+    lead = pos.shape[:-2]
+    P = jnp.asarray(pos).reshape((-1,) + pos.shape[-2:])
+    R = jnp.asarray(rot).reshape((-1,) + rot.shape[-3:])
+    led = O.led_position(P[:, trunk], led_distance, led_height, lateral)
+
+    def one(p, r, q):
+        uv, _ = project_points(model, types.SimpleNamespace(pos=p, rot=r), "onboard", q[None])
+        return uv[0]
+
+    uv = jax.vmap(one)(P, R, led)
+    return np.asarray(uv).reshape(lead + (2,))
+
+
+def detrend(x, window: int):
+    """``x`` (K, ...) minus its centred moving average over ``window`` samples (edges:
+    the average over the samples available)."""
+    x = np.asarray(x, np.float64)
+    if window <= 1:
+        return x - x.mean(axis=0)
+    k = np.ones(window) / window
+    num = np.apply_along_axis(lambda v: np.convolve(v, k, mode="same"), 0, x)
+    den = np.convolve(np.ones(len(x)), k, mode="same")
+    return x - num / den.reshape((-1,) + (1,) * (x.ndim - 1))
+
+
+def fitness_terms(model, sim, t_start: float, led_distance: float, led_height: float,
+                  fall_height: float, period=None):
+    """Eq. 3.3 terms over the window t > ``t_start`` of a :func:`simulate` result.
+
+    ``period`` (B,) [s]: gait periods. On the treadmill a light rope to an overhead rail
+    "reorients" the robot along the track (§3.2.2), so the LED's image position reflects
+    the body's wobble during the gait, not a slow drift of the heading. The simulated
+    robot walks on an open floor without that rope, so its slow heading drift is removed
+    before the standard deviations are taken: the pixel track minus its moving average
+    over one gait period. ``None``: plain standard deviations.
+
+    Returns a dict of (B,) arrays: ``distance`` [m] (trunk x displacement), ``speed``
+    [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3), ``fallen`` (bool:
+    trunk lower than ``fall_height`` [m] or tilted more than 60 degrees, or an
+    unphysical simulation, see :func:`exploded`) and ``exploded``.
+    """
+    trunk = O.trunk_index(model)
+    w = sim["t"] > t_start + 1e-9
+    pos, rot = sim["pos"][:, w], sim["rot"][:, w]
+    tp = pos[:, :, trunk]
+    span = sim["t"][w][-1] - t_start
+    distance = tp[:, -1, 0] - tp[:, 0, 0]
+    uv = led_pixels(model, pos, rot, led_distance, led_height)
+    if period is not None:
+        uv = np.stack([detrend(u, int(round(float(p) / COMMAND_PERIOD)))
+                       for u, p in zip(uv, np.broadcast_to(period, uv.shape[:1]))])
+    sx, sy = uv[..., 0].std(axis=1), uv[..., 1].std(axis=1)
+    up = rot[:, :, trunk, 2, 2]
+    bad = exploded(model, sim)
+    fallen = (tp[..., 2].min(axis=1) < fall_height) | (up.min(axis=1) < 0.5) | bad
+    fit = distance - sx / 150.0 - sy / 300.0
+    fit = np.where(np.isfinite(fit) & ~bad, fit, -np.inf)
+    distance = np.where(bad, np.nan, distance)
+    return dict(distance=distance, speed=distance / span, sigma_x=sx, sigma_y=sy,
+                fitness=fit, fallen=fallen, exploded=bad)
+
+
+#: Trunk height [m] and trunk speed [m/s] that no walking 5 kg robot reaches: above
+#: them the simulation has gone unphysical (engine blow-up, see the ch3 report).
+EXPLODED_HEIGHT = 0.4
+EXPLODED_SPEED = 10.0
+
+
+def exploded(model, sim):
+    """(B,) True where a robot's simulation went non-finite or unphysical (trunk above
+    EXPLODED_HEIGHT or faster than EXPLODED_SPEED between two command samples)."""
+    tp = sim["pos"][:, :, O.trunk_index(model)]
+    finite = np.isfinite(sim["pos"]).all(axis=(1, 2, 3))
+    with np.errstate(invalid="ignore"):
+        v = np.linalg.norm(np.diff(tp, axis=1), axis=-1) / COMMAND_PERIOD
+        high = np.nanmax(tp[..., 2], axis=1) > EXPLODED_HEIGHT
+        fast = np.nanmax(v, axis=1) > EXPLODED_SPEED
+    return ~finite | high | fast
+
+
+def fit_circle(xy):
+    """Least-squares (Kasa) circle through points ``xy`` (N, 2) [m].
+
+    Used for the turning radius of §3.3.3 ("fitting a circle to the measured center of
+    the robot over time"). Returns (centre (2,), radius) [m]; radius inf for collinear
+    points.
+    """
+    xy = np.asarray(xy, np.float64)
+    A = np.column_stack([2 * xy[:, 0], 2 * xy[:, 1], np.ones(len(xy))])
+    b = (xy ** 2).sum(axis=1)
+    sol, *_ = np.linalg.lstsq(A, b, rcond=None)
+    c = sol[:2]
+    r2 = sol[2] + c @ c
+    if not np.isfinite(r2) or r2 <= 0 or math.sqrt(r2) > 1e3:
+        return c, math.inf
+    return c, math.sqrt(r2)
+
+
+def yaw_of(rot):
+    """Heading [rad] of the trunk's x axis in the horizontal plane, unwrapped over time.
+
+    Args: rot (..., K, 3, 3) trunk rotations. Returns (..., K)."""
+    return np.unwrap(np.arctan2(rot[..., 1, 0], rot[..., 0, 0]), axis=-1)
