@@ -21,6 +21,11 @@ EXPERIMENTS: dict[str, str] = {
     "ch2/chirpz_scaling": "thesis.chirpz.experiments:chirpz_scaling",
     # ch3: Oncilla gaits and turning
     # ch7: differentiable physics engine
+    "ch7/ball": "thesis.diffphys.ball:ball",
+    "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
+    "ch7/arm_random": "thesis.diffphys.arm:arm_random",
+    "ch7/quadruped_gait": "thesis.diffphys.gait:gait",
+    "ch7/pendulum_pixels": "thesis.diffphys.pendulum:pendulum",
     "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
     "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
 }

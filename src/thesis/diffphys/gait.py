@@ -1,0 +1,165 @@
+"""A quadrupedal gait learned by BPTT through the engine (thesis §7.3.3).
+
+Controller: inputs sin and cos of 2 pi f t (f = 1.5 Hz), two ReLU layers of 128, a linear
+output layer of 8 servo targets [rad] fed by the top hidden layer and, through a skip
+connection, by the inputs (:func:`thesis.diffphys.nets.skip_init`, 17 952 parameters),
+output layer initialised at zero so the robot starts standing still. The model is
+``thesis.physics.models.quadruped`` (servos limited to 4 N m, 28.7 kg, 75 % in the torso).
+
+Objective: maximise the spine's forward (x) velocity averaged over every step of the
+episode (10 s), batch of one robot, Adam with the gradient decayed per step and clipped
+(FACTS §2.11). ``speed`` at evaluation k is the mean forward velocity of the policy
+evaluated there (before the k-th update); ``final_speed`` re-evaluates the parameters
+after the last update. A strip of frames of the learned gait (first seed) is rendered
+with the engine's camera from a tracking camera added to a copy of the model.
+"""
+
+from __future__ import annotations
+
+import time
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optax
+import xarray as xr
+
+from thesis import seeding
+from thesis.diffphys import bptt, frames, nets
+from thesis.diffphys.engine_fixes import without_deadband
+from thesis.physics import rollout
+from thesis.physics.models import quadruped
+
+__all__ = ["build", "speed_fn", "gait"]
+
+SPINE = "spine"
+
+
+def build(cfg: dict):
+    """(model, state0) of the quadruped with the profile's time step and solver iterations
+    (servos without dead band, :mod:`thesis.diffphys.engine_fixes`)."""
+    model, state0 = quadruped(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"])
+    return without_deadband(model), state0
+
+
+def controller_fn(frequency_hz: float):
+    """``controller(params, sensors, memory, t)``: [sin, cos](2 pi f t) -> 8 servo targets."""
+    def controller(params, sens, memory, t):
+        ph = 2.0 * jnp.pi * frequency_hz * t
+        x = jnp.stack([jnp.sin(ph), jnp.cos(ph)]).astype(sens["body_pos"].dtype)
+        return nets.skip_apply(params, x), memory
+    return controller
+
+
+def speed_fn(model, state0, n_steps: int, frequency_hz: float, *, grad_decay=1.0,
+             remat=False, record=("body_vel",)):
+    """``params -> (mean forward spine velocity [m/s], trajectory)`` over ``n_steps``."""
+    spine = model.body(SPINE)
+    ctrl = controller_fn(frequency_hz)
+
+    def f(params):
+        _, traj = rollout(model, state0, ctrl, params, n_steps, grad_decay=grad_decay,
+                          remat=remat, record=tuple(sorted(set(record) | {"body_vel"})))
+        return jnp.mean(traj["body_vel"][:, spine, 0]), traj
+    return f
+
+
+def gait(ctx) -> xr.Dataset:
+    """Experiment ``ch7/quadruped_gait`` (§7.3.3): speed over model evaluations.
+
+    Dataset: dims ``seed``, ``evaluation``, ``frame``, ``row``, ``col``, ``channel``;
+    variables ``speed`` (seed, evaluation), ``final_speed``, ``skipped_updates``,
+    ``wall_seconds`` (seed), ``frames`` (frame, row, col, channel) of the first seed's
+    learned gait, ``frame_time``, ``frame_spine_x``.
+    """
+    key = ctx.key
+    cfg = ctx.config["gait"]
+    seeds = [int(s) for s in cfg["seeds"]]
+    model, state0 = build(cfg)
+    n_steps = int(round(cfg["episode_s"] / float(model.dt)))
+    f_hz = float(cfg["frequency_hz"])
+    train = speed_fn(model, state0, n_steps, f_hz, grad_decay=cfg["grad_decay"],
+                     remat=cfg["remat"])
+    vg = jax.jit(jax.value_and_grad(lambda p: -train(p)[0]))
+    evaluate = jax.jit(lambda p: speed_fn(model, state0, n_steps, f_hz)(p)[0])
+    opt = bptt.make_optimizer(cfg["learning_rate"], cfg["clip_norm"])
+    upd = jax.jit(lambda g, st, p: opt.update(g, st, p))
+    hidden = [int(h) for h in cfg["hidden"]]
+    curves, finals, skipped, walls, best_params, n_par = [], [], [], [], None, None
+    for s in seeds:
+        params = nets.skip_init(seeding.key(ctx.root_seed, key, s), 2, hidden, model.n_servo)
+        n_par = nets.n_params(params)
+        st = opt.init(params)
+        speeds, n_skip, t0 = [], 0, None
+        for k in range(int(cfg["evaluations"])):
+            loss, g = vg(params)
+            bptt.check_finite(loss, key, s, k, "gait forward speed")
+            if t0 is None:
+                t0 = time.perf_counter()
+            speeds.append(-float(loss))
+            if not bptt.all_finite(g):
+                if cfg["nonfinite_grad"] == "raise":
+                    bptt.check_finite(g, key, s, k, "gait gradient")
+                n_skip += 1
+                continue
+            u, st = upd(g, st, params)
+            params = optax.apply_updates(params, u)
+        walls.append(time.perf_counter() - t0)
+        final = float(evaluate(params))
+        bptt.check_finite(final, key, s, len(speeds), "gait final speed")
+        ctx.log.info("gait seed %d: speed %.3f -> %.3f m/s (final %.3f), %d skipped, %.1f s",
+                     s, speeds[0], speeds[-1], final, n_skip, walls[-1])
+        curves.append(speeds)
+        finals.append(final)
+        skipped.append(n_skip)
+        if best_params is None:
+            best_params = params
+    imgs, times, xs = _strip(model, state0, n_steps, f_hz, best_params, cfg)
+    ds = xr.Dataset(
+        {
+            "speed": (("seed", "evaluation"), np.array(curves), {
+                "units": "m/s", "long_name": "mean forward velocity of the spine over the "
+                "episode, policy evaluated at this model evaluation"}),
+            "final_speed": (("seed",), np.array(finals), {
+                "units": "m/s", "long_name": "mean forward spine velocity of the parameters "
+                "after the last update"}),
+            "skipped_updates": (("seed",), np.array(skipped), {
+                "units": "1", "long_name": "updates skipped for a non-finite gradient"}),
+            "wall_seconds": (("seed",), np.array(walls), {
+                "units": "s", "long_name": "wall time of training after compilation"}),
+            "frames": (("frame", "row", "col", "channel"), imgs, {
+                "units": "1", "long_name": "RGB frames (0-255) of the learned gait of the "
+                "first seed, engine camera tracking the spine"}),
+            "frame_time": (("frame",), times, {"units": "s", "long_name": "time of each frame"}),
+            "frame_spine_x": (("frame",), xs, {"units": "m",
+                                                "long_name": "spine x position in each frame"}),
+        },
+        coords={"seed": seeds, "channel": ["r", "g", "b"]},
+    )
+    ds["evaluation"] = ("evaluation", np.arange(1, int(cfg["evaluations"]) + 1),
+                        {"units": "1", "long_name": "model evaluation"})
+    ds.attrs.update({
+        "thesis_ref": "§7.3.3", "seeds": seeds, "n_params": int(n_par),
+        "network": f"2-{'-'.join(map(str, hidden))}-{model.n_servo} + skip",
+        "episode_s": float(cfg["episode_s"]), "n_steps": n_steps, "dt": float(model.dt),
+        "frequency_hz": f_hz, "learning_rate": float(cfg["learning_rate"]),
+        "grad_decay": float(cfg["grad_decay"]), "clip_norm": float(cfg["clip_norm"]),
+        "evaluations": int(cfg["evaluations"]), "nonfinite_grad": cfg["nonfinite_grad"],
+        "total_mass_kg": float(np.sum(np.asarray(model.body_mass))),
+        "frames_seed": seeds[0],
+    })
+    return ds
+
+
+def _strip(model, state0, n_steps, f_hz, params, cfg):
+    run = jax.jit(lambda p: speed_fn(model, state0, n_steps, f_hz,
+                                     record=("body_pos", "body_rot"))(p)[1])
+    traj = run(params)
+    n = int(cfg["frames"])
+    idx = np.linspace(0, n_steps - 1, n).round().astype(int)
+    pos = np.asarray(traj["body_pos"])[idx]
+    rot = np.asarray(traj["body_rot"])[idx]
+    cam = frames.with_tracking_camera(model, cfg["frame_pixels"])
+    imgs = frames.render_strip(cam, state0, pos, rot, model.body(SPINE), (0.0, -1.6, 0.35))
+    times = (idx + 1) * float(model.dt)
+    return frames.to_uint8(imgs), times, pos[:, model.body(SPINE), 0]
