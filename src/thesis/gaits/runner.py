@@ -148,8 +148,8 @@ def detrend(x, window: int):
     return x - num / den.reshape((-1,) + (1,) * (x.ndim - 1))
 
 
-def fitness_terms(model, sim, t_start: float, led_distance: float, led_height: float,
-                  fall_height: float, period=None):
+def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
+                  fall_height: float, period=None, t_end=None):
     """Eq. 3.3 terms over the window t > ``t_start`` of a :func:`simulate` result.
 
     ``period`` (B,) [s]: gait periods. On the treadmill a light rope to an overhead rail
@@ -159,30 +159,43 @@ def fitness_terms(model, sim, t_start: float, led_distance: float, led_height: f
     before the standard deviations are taken: the pixel track minus its moving average
     over one gait period. ``None``: plain standard deviations.
 
+    ``t_start`` and ``t_end`` (scalars or (B,)) bound each robot's window (``t_end``
+    None: to the end of the simulation).
+
     Returns a dict of (B,) arrays: ``distance`` [m] (trunk x displacement), ``speed``
     [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3), ``fallen`` (bool:
     trunk lower than ``fall_height`` [m] or tilted more than 60 degrees, or an
     unphysical simulation, see :func:`exploded`) and ``exploded``.
     """
     trunk = O.trunk_index(model)
-    w = sim["t"] > t_start + 1e-9
-    pos, rot = sim["pos"][:, w], sim["rot"][:, w]
-    tp = pos[:, :, trunk]
-    span = sim["t"][w][-1] - t_start
-    distance = tp[:, -1, 0] - tp[:, 0, 0]
-    uv = led_pixels(model, pos, rot, led_distance, led_height)
-    if period is not None:
-        uv = np.stack([detrend(u, int(round(float(p) / COMMAND_PERIOD)))
-                       for u, p in zip(uv, np.broadcast_to(period, uv.shape[:1]))])
-    sx, sy = uv[..., 0].std(axis=1), uv[..., 1].std(axis=1)
-    up = rot[:, :, trunk, 2, 2]
+    B = sim["pos"].shape[0]
+    t = sim["t"]
+    t0 = np.broadcast_to(np.asarray(t_start, np.float64), (B,))
+    t1 = np.broadcast_to(np.asarray(t[-1] if t_end is None else t_end, np.float64), (B,))
+    uv_all = led_pixels(model, sim["pos"], sim["rot"], led_distance, led_height)
     bad = exploded(model, sim)
-    fallen = (tp[..., 2].min(axis=1) < fall_height) | (up.min(axis=1) < 0.5) | bad
-    fit = distance - sx / 150.0 - sy / 300.0
-    fit = np.where(np.isfinite(fit) & ~bad, fit, -np.inf)
-    distance = np.where(bad, np.nan, distance)
-    return dict(distance=distance, speed=distance / span, sigma_x=sx, sigma_y=sy,
-                fitness=fit, fallen=fallen, exploded=bad)
+    out = {k: np.zeros(B) for k in ("distance", "speed", "sigma_x", "sigma_y", "fitness")}
+    fallen = np.zeros(B, bool)
+    per = None if period is None else np.broadcast_to(np.asarray(period, np.float64), (B,))
+    for i in range(B):
+        w = (t > t0[i] + 1e-9) & (t <= t1[i] + 1e-9)
+        tp = sim["pos"][i, w, trunk]
+        up = sim["rot"][i, w, trunk, 2, 2]
+        uv = uv_all[i, w]
+        if per is not None:
+            uv = detrend(uv, int(round(per[i] / COMMAND_PERIOD)))
+        sx, sy = uv[:, 0].std(), uv[:, 1].std()
+        dist = tp[-1, 0] - tp[0, 0]
+        span = t[w][-1] - t0[i]
+        with np.errstate(invalid="ignore"):
+            fallen[i] = bad[i] or tp[:, 2].min() < fall_height or up.min() < 0.5
+        fit = dist - sx / 150.0 - sy / 300.0
+        ok = np.isfinite(fit) and not bad[i]
+        out["distance"][i] = dist if not bad[i] else np.nan
+        out["speed"][i] = out["distance"][i] / span
+        out["sigma_x"][i], out["sigma_y"][i] = sx, sy
+        out["fitness"][i] = fit if ok else -np.inf
+    return dict(out, fallen=fallen, exploded=bad)
 
 
 #: Trunk height [m] and trunk speed [m/s] that no walking 5 kg robot reaches: above
@@ -213,7 +226,9 @@ def fit_circle(xy):
     xy = np.asarray(xy, np.float64)
     A = np.column_stack([2 * xy[:, 0], 2 * xy[:, 1], np.ones(len(xy))])
     b = (xy ** 2).sum(axis=1)
-    sol, *_ = np.linalg.lstsq(A, b, rcond=None)
+    sol, _, rank, _ = np.linalg.lstsq(A, b, rcond=None)
+    if rank < 3:  # collinear points: a straight line, no finite circle
+        return np.full(2, np.nan), math.inf
     c = sol[:2]
     r2 = sol[2] + c @ c
     if not np.isfinite(r2) or r2 <= 0 or math.sqrt(r2) > 1e3:

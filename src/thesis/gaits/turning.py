@@ -96,17 +96,18 @@ def turning_command_fn(family: T.EllipseGait, settle: float, t_transition: float
 
 
 @functools.lru_cache(maxsize=8)
-def tracking_command_fn(family: T.EllipseGait, strategy: str, settle: float,
+def tracking_command_fn(family: T.EllipseGait, settle: float,
                         t_transition: float, led_distance: float, led_height: float,
                         camera_focal_px: float, trunk: int, camera_x: float):
-    """P-controller on the LED's bearing (§3.3.3) for ``step_size`` or ``scapulae``.
+    """P-controller on the LED's bearing (§3.3.3) for ``step_size`` or ``scapulae``
+    turning (memory ``scapulae``: 0 or 1, so both run in one batch).
 
     The bearing beta [rad] of the LED seen by the onboard camera (from its pixel column,
     ``camera_focal_px`` = focal length in pixels) drives the turning command
-    u = clip(gain * beta, -1, 1) (memory ``gain``): for ``step_size`` the inner side's a
+    u = clip(gain * beta, -1, 1) (memory ``gain``): for step size the inner side's a
     shrinks by |u| (a_inner = a - |u| (a - reduced_a), the side chosen by the sign of u);
-    for ``scapulae`` the loci turn by u * yaw_max (fore +, hind -). Memory: ``params``
-    (P,), ``gain``, ``reduced_a``, ``yaw_max`` [rad].
+    for scapulae the loci turn by u * yaw_max (fore +, hind -). Memory: ``params``
+    (P,), ``gain``, ``reduced_a``, ``yaw_max`` [rad], ``scapulae`` (0 or 1).
     """
     ia = family.index("a")
 
@@ -120,15 +121,13 @@ def tracking_command_fn(family: T.EllipseGait, strategy: str, settle: float,
         w = jnp.clip((t - settle) / t_transition, 0.0, 1.0)
         u = w * jnp.clip(mem["gain"] * beta, -1.0, 1.0)
         p = jnp.repeat(mem["params"][:, None], 4, axis=1)
-        yaw = jnp.zeros(4, p.dtype)
-        if strategy == "step_size":
-            a0 = mem["params"][ia]
-            cut = jnp.abs(u) * (a0 - jnp.minimum(mem["reduced_a"], a0))
-            left = jnp.asarray(INNER)
-            a = jnp.where(left, a0 - cut * (u > 0), a0 - cut * (u < 0))
-            p = p.at[ia].set(a)
-        else:
-            yaw = jnp.where(jnp.asarray(FORE), 1.0, -1.0) * u * mem["yaw_max"]
+        scap = mem["scapulae"]
+        a0 = mem["params"][ia]
+        cut = (1.0 - scap) * jnp.abs(u) * (a0 - jnp.minimum(mem["reduced_a"], a0))
+        left = jnp.asarray(INNER)
+        a = jnp.where(left, a0 - cut * (u > 0), a0 - cut * (u < 0))
+        p = p.at[ia].set(a)
+        yaw = scap * jnp.where(jnp.asarray(FORE), 1.0, -1.0) * u * mem["yaw_max"]
         f = mem["params"][family.index("f")]
         phase = f * jnp.maximum(t - settle, 0.0)
         targets = family.foot_targets(p, phase, yaw)
