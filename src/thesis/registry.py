@@ -20,6 +20,11 @@ EXPERIMENTS: dict[str, str] = {
     "ch2/table2_2": "thesis.chirpz.experiments:table2_2",
     "ch2/chirpz_scaling": "thesis.chirpz.experiments:chirpz_scaling",
     # ch3: Oncilla gaits and turning
+    "ch3/table3_1": "thesis.gaits.experiments:table3_1",
+    "ch3/fig3_4": "thesis.gaits.experiments:fig3_4",
+    "ch3/robustness": "thesis.gaits.experiments:robustness",
+    "ch3/table3_2": "thesis.gaits.experiments:table3_2",
+    "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
