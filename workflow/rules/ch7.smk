@@ -1,2 +1,92 @@
-# Chapter 7: rules are added here as its experiments land (see CONTRIBUTING.md §3).
-# Until then its target is empty and the report shows "not run".
+# Chapter 7: the differentiable physics engine (thesis.diffphys; engine in thesis.physics).
+#
+# Five independent experiments (ball, arm_fixed, arm_random, quadruped_gait,
+# pendulum_pixels), the engine benchmark of Tab. 7.1 (table7_1) and, outside the default
+# target because MuJoCo/MJX are optional, the peers benchmark (table7_1_peers).
+
+_CH7_RUNS = [
+    ("ball", "ball throw, BPTT gradient descent vs CMA-ES (§7.2.1)", 30),
+    ("arm_fixed", "4-DoF arm to a fixed point, BPTT vs CMA-ES (§7.3.2.1)", 60),
+    ("arm_random", "4-DoF arm to random points (§7.3.2.2)", 60),
+    ("quadruped_gait", "quadruped gait from a sine and cosine (§7.3.3)", 60),
+    ("pendulum_pixels", "cart-pole swing-up from camera pixels (§7.3.3.1)", 60),
+]
+
+for _name, _what, _minutes in _CH7_RUNS:
+
+    rule:
+        name:
+            f"ch7_{_name}"
+        message:
+            f"Differentiable physics: {_what}, profile {PROFILE}"
+        output:
+            nc=result("ch7", _name),
+        params:
+            cfg=cfg_slice("ch7"),
+            code=code_of("ch7"),
+            key=f"ch7/{_name}",
+        log:
+            log_path("ch7", _name),
+        benchmark:
+            bench_path("ch7", _name)
+        threads: 2
+        resources:
+            mem_mb=6000,
+            runtime=_minutes,
+        shell:
+            "{THESIS} run {params.key} --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+rule ch7_table7_1:
+    message:
+        "Engine speed with and without gradient, batch 1 and 128 (Tab. 7.1), profile {PROFILE}"
+    output:
+        nc=result("ch7", "table7_1"),
+    params:
+        cfg=cfg_slice("physics"),
+        code=code_of("ch7"),
+    log:
+        log_path("ch7", "table7_1"),
+    benchmark:
+        bench_path("ch7", "table7_1")
+    threads: 2
+    resources:
+        mem_mb=8000,
+        runtime=60,
+    shell:
+        "{THESIS} bench physics --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+# Optional (MuJoCo C / MJX peers of Tab. 7.1): not part of the chapter target.
+rule ch7_table7_1_peers:
+    message:
+        "MuJoCo and MJX on the same quadruped (Tab. 7.1 peers), profile {PROFILE}"
+    output:
+        nc=result("ch7", "table7_1_peers"),
+    params:
+        cfg=cfg_slice("physics"),
+        code=code_of("ch7"),
+    log:
+        log_path("ch7", "table7_1_peers"),
+    benchmark:
+        bench_path("ch7", "table7_1_peers")
+    threads: 2
+    resources:
+        mem_mb=8000,
+        runtime=60,
+    shell:
+        "{THESIS} bench mjx --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+CHAPTER_TARGETS["ch7"] = [result("ch7", n) for n, _, _ in _CH7_RUNS] + [
+    result("ch7", "table7_1")
+]
+FIGURES["ch7"] = [
+    "ball_loss",
+    "arm_learning",
+    "gait_learning",
+    "gait_frames",
+    "pendulum_learning",
+    "pendulum_frames",
+]
+TABLES["ch7"] = ["ball", "arm_fixed", "arm_random", "quadruped_gait", "pendulum_pixels"]
