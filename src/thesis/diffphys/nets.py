@@ -71,11 +71,17 @@ def mlp_init(key, sizes, *, zero_output=True, dtype=jnp.float32):
     return layers
 
 
+def _affine(x, layer):
+    """``x @ w + b`` for any number of leading axes (explicit broadcast of ``b``)."""
+    b = layer["b"].reshape((1,) * (x.ndim - 1) + layer["b"].shape)
+    return x @ layer["w"] + b
+
+
 def mlp_apply(params, x):
     """Forward pass: ReLU hidden layers, identity output. ``x``: (..., n_in) -> (..., n_out)."""
     for layer in params[:-1]:
-        x = jax.nn.relu(x @ layer["w"] + layer["b"])
-    return x @ params[-1]["w"] + params[-1]["b"]
+        x = jax.nn.relu(_affine(x, layer))
+    return _affine(x, params[-1])
 
 
 def skip_init(key, n_in, hidden, n_out, *, zero_output=True, dtype=jnp.float32):
@@ -100,9 +106,8 @@ def skip_apply(params, x):
     """``(..., n_in) -> (..., n_out)``: out(h_top) + skip(x), both linear."""
     h = x
     for layer in params["hidden"]:
-        h = jax.nn.relu(h @ layer["w"] + layer["b"])
-    o, s = params["out"], params["skip"]
-    return (h @ o["w"] + o["b"]) + (x @ s["w"] + s["b"])
+        h = jax.nn.relu(_affine(h, layer))
+    return _affine(h, params["out"]) + _affine(x, params["skip"])
 
 
 def _conv_out_hw(h, w, n_conv, pool_every):
@@ -152,7 +157,7 @@ def convnet_apply(params, images, pool_every):
     for i, layer in enumerate(params["conv"]):
         x = jax.lax.conv_general_dilated(x, layer["w"], (1, 1), "SAME",
                                          dimension_numbers=("NHWC", "HWIO", "NHWC"))
-        x = jax.nn.relu(x + layer["b"])
+        x = jax.nn.relu(x + layer["b"].reshape(1, 1, 1, -1))
         if pool_every > 0 and (i + 1) % pool_every == 0:
             x = jax.lax.reduce_window(x, -jnp.inf, jax.lax.max, (1, 2, 2, 1), (1, 2, 2, 1),
                                       "VALID")
