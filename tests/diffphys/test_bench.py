@@ -155,3 +155,37 @@ def test_dataset_layout_on_a_tiny_run():
     per = 1e3 * s / (np.array([1, 2])[None, :, None, None] * 2)
     np.testing.assert_allclose(ds["ms_per_robot_step"].values, per, rtol=1e-6)
     assert ds.attrs["grad_decay"] == 0.9 and ds.attrs["n_steps"] == 2
+
+
+_SPLIT = """
+import jax, numpy as np
+from thesis.diffphys import bench_engine as be
+m, s0 = be.quadruped()
+dist = be.distance_fn(m, be.make_controller(m, 8), 5, 8, grad_decay=1.0, remat=False)
+w = be.init_controller(jax.random.key(0), be.controller_sizes(73, 8, 8, [4]), output_gain=1.0)
+st = be.initial_states(s0, 2, jax.random.key(1), 0.3)
+res = []
+for devs in (jax.devices()[:1], jax.devices()):
+    fn, rep, sh, n = be.build_bench_fn(dist, devs, 2, True)
+    d, g = jax.jit(fn)(jax.device_put(w, rep), jax.device_put(st, sh))
+    res.append((n, np.asarray(d), [np.asarray(x) for x in g]))
+(n1, d1, g1), (n2, d2, g2) = res
+assert (n1, n2) == (1, 2), (n1, n2)
+np.testing.assert_allclose(d2, d1, rtol=1e-4, atol=1e-7)
+for a, b in zip(g2, g1):
+    np.testing.assert_allclose(a, b, rtol=1e-3, atol=1e-7)
+print("OK")
+"""
+
+
+@pytest.mark.slow
+def test_batch_split_over_two_host_devices_gives_the_same_gradient():
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2")
+    out = subprocess.run([sys.executable, "-c", _SPLIT], env=env, capture_output=True,
+                         text=True, timeout=900)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert out.stdout.strip().endswith("OK")

@@ -170,6 +170,8 @@ def table7_1_peers(ctx):
         comp, runs, out, mem = be.time_compiled(fn, (weights, qv), cfg["repeats"])
         dists = np.asarray(out[0] if gradient else out)
         fin, norm = be.grad_stats(out[1]) if gradient else (np.nan, np.nan)
+        ctx.log.info("table7_1_peers:   -> runs %s s, compile %.1f s, grad finite %s, norm %.3g",
+                     [round(r, 3) for r in runs], comp, fin, norm)
         return dict(seconds=statistics.median(runs), compile_seconds=comp,
                     peak_memory_bytes=mem * n_dev, gradient_finite=fin, gradient_norm=norm,
                     distance_finite=float(np.all(np.isfinite(dists))), n_devices=n_dev)
