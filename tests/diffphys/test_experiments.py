@@ -69,6 +69,7 @@ def test_arm_fixed_dataset_layout():
     ds = _run("ch7/arm_fixed", "thesis.diffphys.arm:arm_fixed", "arm_fixed")
     _has(ds, {"evaluations_to_4cm": ("method", "seed"), "evaluations_to_1cm": ("method", "seed"),
               "reached_4cm": ("method", "seed"), "error": ("method", "seed", "evaluation"),
+              "distance": ("seed", "evaluation"),
               "best_error": ("method", "seed", "evaluation")})
     assert ds["error"].attrs["units"] == "m"
     assert ds.attrs["n_params"] == 1 * 4 + 4 + 4 * 4 + 4
@@ -78,6 +79,7 @@ def test_arm_fixed_dataset_layout():
 def test_arm_random_dataset_layout():
     ds = _run("ch7/arm_random", "thesis.diffphys.arm:arm_random", "arm_random")
     _has(ds, {"updates_to_10cm": ("seed",), "updates_to_5cm": ("seed",),
+              "distance": ("seed", "update"),
               "test_error": ("seed", "check"), "train_objective": ("seed", "update")})
     assert ds.attrs["batch"] == 2 and ds.attrs["network"] == "3-4-4"
 
@@ -95,6 +97,7 @@ def test_gait_dataset_layout():
 def test_pendulum_dataset_layout():
     ds = _run("ch7/pendulum_pixels", "thesis.diffphys.pendulum:pendulum", "pendulum")
     _has(ds, {"episodes_to_up": ("seed",), "stays_up_s": ("seed",), "loss": ("seed", "episode"),
+              "success": ("seed", "episode"),
               "frames": ("frame", "row", "col", "channel")})
     assert ds["frames"].shape == (2, 4, 12, 3)
     assert np.asarray(ds.attrs["pixels"]).tolist() == [12, 4]

@@ -189,6 +189,9 @@ def arm_fixed(ctx) -> xr.Dataset:
     best = np.fmin.accumulate(np.where(np.isnan(error), np.inf, error), axis=-1)
     best = np.where(np.isnan(error), np.nan, best)
     data = {
+        "distance": (("seed", "evaluation"), error[methods.index("gradient")], {
+            "units": "m", "long_name": "gradient method: end-effector distance to the target "
+            "(mean over the final eval_window_s) of the policy at each model evaluation"}),
         "error": (("method", "seed", "evaluation"), error, {
             "units": "m", "long_name": "end-effector distance averaged over the final "
             "eval_window_s of the episode (gradient: the current policy; cmaes: the "
@@ -272,7 +275,7 @@ def arm_random(ctx) -> xr.Dataset:
     test = jax.jit(test_error)
     opt = bptt.make_optimizer(cfg["lr_per_metre"], cfg["clip_norm"], injectable=True)
     upd = jax.jit(lambda g, st, p: opt.update(g, st, p))
-    curves, objs, walls, n_par = [], [], [], None
+    curves, objs, dists, walls, n_par = [], [], [], [], None
     for s in seeds:
         params = nets.mlp_init(seeding.key(ctx.root_seed, key, s), sizes)
         n_par = nets.n_params(params)
@@ -280,7 +283,7 @@ def arm_random(ctx) -> xr.Dataset:
         test_targets = jnp.asarray(sample_targets(
             seeding.rng(ctx.root_seed, key + "/test", s), int(cfg["test_batch"])), dtype)
         st = opt.init(params)
-        prev, obj_curve, test_curve, t0 = None, [], [], None
+        prev, obj_curve, dist_curve, test_curve, t0 = None, [], [], [], None
         for u in range(1, n_upd + 1):
             targets = jnp.asarray(sample_targets(rng, int(cfg["batch"])), dtype)
             (obj, err), g = vg(params, targets)
@@ -288,6 +291,7 @@ def arm_random(ctx) -> xr.Dataset:
             if t0 is None:
                 t0 = time.perf_counter()
             obj_curve.append(float(obj))
+            dist_curve.append(float(err))
             prev = float(obj) if prev is None else prev
             st[-1].hyperparams["learning_rate"] = jnp.asarray(cfg["lr_per_metre"] * prev)
             prev = float(obj)
@@ -302,11 +306,15 @@ def arm_random(ctx) -> xr.Dataset:
         walls.append(time.perf_counter() - t0)
         curves.append(test_curve)
         objs.append(obj_curve)
+        dists.append(dist_curve)
     test_err = np.array(curves)
     data = {
         "test_error": (("seed", "check"), test_err, {
             "units": "m", "long_name": "mean over the fixed test targets of the end-effector "
             "distance averaged over the final eval_window_s"}),
+        "distance": (("seed", "update"), np.array(dists), {
+            "units": "m", "long_name": "training batch mean of the end-effector distance "
+            "(mean over the final eval_window_s) before each update"}),
         "train_objective": (("seed", "update"), np.array(objs), {
             "units": "m", "long_name": "batch mean of the time-averaged end-effector "
             "distance (the objective) before each update"}),

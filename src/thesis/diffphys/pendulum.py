@@ -154,6 +154,7 @@ def pendulum(ctx) -> xr.Dataset:
     opt = bptt.make_optimizer(cfg["learning_rate"], cfg["clip_norm"])
     upd = jax.jit(lambda g, st, p: opt.update(g, st, p))
     losses, finals, to_up, stays, ups, t_up, walls, n_par = [], [], [], [], [], [], [], None
+    success = []
     strip = None
     for s in seeds:
         params = nets.convnet_init(seeding.key(ctx.root_seed, key, s), (px_h, px_w), 9,
@@ -161,7 +162,7 @@ def pendulum(ctx) -> xr.Dataset:
         n_par = nets.n_params(params)
         st = opt.init(params)
         rng = seeding.rng(ctx.root_seed, key + "/init", s)
-        ls, fa, solved, t0 = [], [], float("nan"), None
+        ls, fa, ok, solved, t0 = [], [], [], float("nan"), None
         for e in range(int(cfg["episodes"])):
             omega = rng.uniform(-cfg["init_angvel"], cfg["init_angvel"])
             (loss, ang), g = vg(params, jnp.asarray(omega, state0.pos.dtype))
@@ -171,6 +172,7 @@ def pendulum(ctx) -> xr.Dataset:
             ang = np.asarray(ang)
             ls.append(float(loss))
             fa.append(float(np.rad2deg(ang[-1])))
+            ok.append(float(np.all(ang[-n_hold:] < up_rad)))
             if np.isnan(solved) and np.all(ang[-n_hold:] < up_rad):
                 solved = float(e + 1)
                 ctx.log.info("pendulum seed %d: up and held after episode %d", s, e + 1)
@@ -186,6 +188,7 @@ def pendulum(ctx) -> xr.Dataset:
                      "(total %.2f s of %.0f s)", s, ls[0], ls[-1], first, run, total,
                      cfg["test_s"])
         losses.append(ls)
+        success.append(ok)
         finals.append(fa)
         to_up.append(solved)
         stays.append(run)
@@ -213,6 +216,10 @@ def pendulum(ctx) -> xr.Dataset:
             "loss": (("seed", "episode"), np.array(losses), {
                 "units": "m", "long_name": "episode loss: mean tip distance to upright plus "
                 "speed_weight x tip speed"}),
+            "success": (("seed", "episode"), np.array(success), {
+                "units": "1", "long_name": "1 if the pendulum was within up_angle_deg of "
+                "upright for the final hold_s of this training episode (the rollout that "
+                "produced the episode's gradient), else 0"}),
             "final_angle": (("seed", "episode"), np.array(finals), {
                 "units": "degree", "long_name": "angle of the pendulum from upright at the end "
                 "of the episode"}),

@@ -72,8 +72,9 @@ def arm_fixed_table(results) -> Table:
             var = f"evaluations_to_{name}"
             if ds is not None and var in ds and m in ds["method"].values:
                 got = _reach(ds[var].sel({"method": m}).values)
+            no_conv = _paper("arm_fixed/cmaes_evaluations_without_convergence")
             thesis = _paper(f"arm_fixed/threshold_m={thr}/evaluations") if m == "gradient" \
-                else "no convergence in " + _paper("arm_fixed/cmaes_evaluations_without_convergence")
+                else f"no convergence in {no_conv}"
             rows.append([f"within {thr * 100:g} cm", m, thesis, got])
     note = "" if ds is None else (
         "Error: end-effector distance averaged over the final eval_window_s. Best error "
@@ -112,7 +113,8 @@ def gait_table(results) -> Table:
     got = [NOT_RUN] * 3
     if ds is not None:
         got = [str(int(ds.attrs.get("evaluations", ds.sizes["evaluation"]))),
-               mean_spread(ds["final_speed"].values), mean_spread(ds["speed"].max("evaluation").values)]
+               mean_spread(ds["final_speed"].values),
+               mean_spread(ds["speed"].max("evaluation").values)]
     rows = [["model evaluations", _paper("quadruped_gait/evaluations"), got[0]],
             ["speed after the evaluations [m/s]", _paper("quadruped_gait/evaluations=500/speed"),
              got[1]],
