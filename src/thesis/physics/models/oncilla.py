@@ -40,10 +40,12 @@ its reason; nothing is fitted to a result of the thesis):
   reflected through the cable (an invisible 0.2 m, 30 g box: 2e-4 kg m^2, an
   assumption); without it the 2e-6 kg m^2 drum made the engine's block-Jacobi solver
   (thesis.physics.solver) diverge within one step and the legs fold.
-* **Solver**: 30 block-Jacobi sweeps per 2.5 ms step with relaxation 0.5. The engine
+* **Solver**: 30 block-Jacobi sweeps per 2.5 ms step with relaxation 0.3. The engine
   default relaxation 1.0 diverged on these chains of light bodies hanging from a 4 kg
-  trunk; with 15 sweeps the standing robot was quiet for 1.7 s and then jumped 6 cm,
-  and some fast gaits "exploded" (trunk thrown metres up); 30 sweeps stood still for 2 s.
+  trunk. With 15 sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped
+  6 cm; with 30 sweeps at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk
+  thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
+  physical (as did halving dt, at twice the cost).
 * **Servos** (position servos of FACTS §2.7): gain 50 1/s (as the engine's other
   robots); hip and knee (brushless, §4.5) 4 N m, 12 rad/s (a 2 Hz trot needs about
   2 pi 2 0.5 = 6.3 rad/s at the hip); scapula (RC servo) 2 N m, 8 rad/s. Commands are
@@ -121,7 +123,7 @@ def build_pose(geom: L.LegGeometry | None = None, depth: float = BUILD_DEPTH):
     return hip, knee
 
 
-def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.5, servo_gain=50.0, hip_torque=4.0,
+def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0, hip_torque=4.0,
             knee_torque=4.0, scapula_torque=2.0, hip_velocity=12.0, knee_velocity=12.0,
             scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
