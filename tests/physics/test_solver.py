@@ -1,0 +1,127 @@
+"""solver.py: projected block Jacobi converges to direct solutions as iterations grow."""
+
+import itertools
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from thesis.physics import Builder, collision, constraint, kinematics, solver
+from thesis.physics.step import spring_geometry
+
+
+def _problem(m, s):
+    """Rows and bodies of one step, as the engine builds them."""
+    dt = m.dt
+    vel0 = s.vel + dt * m.gravity[None, :]
+    pos, rot, v0 = kinematics.extend(m, s.pos, s.rot, vel0, s.angvel)
+    fr = kinematics.joint_frames(m, pos, rot)
+    ja, jb, err = kinematics.joint_rows(m, fr)
+    erp, gamma = constraint.softness(m.joint_hz, m.joint_zeta, dt)
+    blocks = dict(ja=ja, jb=jb, bias=erp[:, None] / dt * err,
+                  gamma=jnp.broadcast_to(gamma[:, None], err.shape),
+                  body_a=m.joint_body1, body_b=m.joint_body2)
+    rows = constraint.scalar_rows(m, kinematics.joint_coordinates(m, fr, v0),
+                                  collision.detect(m, pos, rot), spring_geometry(m, pos, rot),
+                                  v0, jnp.zeros((m.n_servo,), v0.dtype))
+    inv_m, inv_iw = solver.inverse_mass(m, rot)
+    return v0, inv_m, inv_iw, blocks, rows
+
+
+def _dense(m, v0, inv_m, inv_iw, blocks, rows):
+    nb1 = v0.shape[0]
+    minv = np.zeros((6 * nb1, 6 * nb1))
+    for i in range(nb1):
+        minv[6 * i:6 * i + 3, 6 * i:6 * i + 3] = np.eye(3) * float(inv_m[i])
+        minv[6 * i + 3:6 * i + 6, 6 * i + 3:6 * i + 6] = np.asarray(inv_iw[i])
+    jrows, bias, gam = [], [], []
+    mask = np.asarray(m.joint_row_mask)
+    for j in range(m.n_joint):
+        for r in range(6):
+            if mask[j, r]:
+                row = np.zeros(6 * nb1)
+                row[6 * blocks["body_a"][j]:][:6] += np.asarray(blocks["ja"][j, r])
+                row[6 * blocks["body_b"][j]:][:6] += np.asarray(blocks["jb"][j, r])
+                jrows.append(row)
+                bias.append(float(blocks["bias"][j, r]))
+                gam.append(float(blocks["gamma"][j, r]))
+    n_eq = len(jrows)
+    for i in range(rows["bias"].shape[0]):
+        row = np.zeros(6 * nb1)
+        row[6 * rows["body_a"][i]:][:6] += np.asarray(rows["ja"][i])
+        row[6 * rows["body_b"][i]:][:6] += np.asarray(rows["jb"][i])
+        jrows.append(row)
+        bias.append(float(rows["bias"][i]))
+        gam.append(float(rows["gamma"][i]))
+    jmat = np.array(jrows)
+    a = jmat @ minv @ jmat.T
+    a += np.diag(np.array(gam) * np.diag(a))
+    rhs = -(jmat @ np.asarray(v0).reshape(-1) + np.array(bias))
+    return jmat, minv, a, rhs, n_eq
+
+
+def _solve(m, problem, iterations):
+    mk = m.replace(solver_iterations=iterations)
+    v0, inv_m, inv_iw, blocks, rows = problem
+    z = jnp.zeros((m.n_joint, 6), v0.dtype)
+    v, _, _ = solver.solve(mk, v0, inv_m, inv_iw, blocks, rows, z,
+                           jnp.zeros(rows["bias"].shape, v0.dtype))
+    return np.asarray(v).reshape(-1)
+
+
+@pytest.mark.slow
+def test_block_jacobi_converges_to_direct_solve_of_equality_system(x64):
+    b = Builder("chain", dt=0.01)
+    rot = np.array([[0, 0, 1.0], [0, 1, 0], [-1.0, 0, 0]])
+    for i in range(4):
+        b.add_box(f"l{i}", (0.05, 0.05, 0.3), (0.15 + 0.3 * i, 0, 1.0), rot=rot,
+                  mass=1.0 + i)
+        kind = b.add_hinge if i % 2 == 0 else b.add_ball
+        args = ((0, 1, 0),) if i % 2 == 0 else ()
+        kind(f"j{i}", "world" if i == 0 else f"l{i - 1}", f"l{i}", (0.3 * i, 0, 1.0), *args)
+        b.set_velocity(f"l{i}", (0.1 * i, -0.2, 0.3), (0.5, -0.1 * i, 0.2))
+    b.add_fixed("weld", "l1", "l3")
+    m, s = b.build(jnp.float64)
+    problem = _problem(m, s)
+    jmat, minv, a, rhs, _ = _dense(m, *problem)
+    lam = np.linalg.solve(a, rhs)
+    v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ lam
+    errs = [np.abs(_solve(m, problem, k) - v_direct).max() for k in (5, 20, 80, 400, 1600)]
+    print("errors", errs)
+    assert all(e1 < e0 for e0, e1 in zip(errs, errs[1:])), errs
+    assert errs[-1] < 1e-6 * np.abs(v_direct).max()
+
+
+def test_contact_lcp_matches_enumerative_solution(x64):
+    """A tilted box pressed into the floor on four frictionless spheres: the LCP
+    0 <= lambda _|_ A lambda - rhs >= 0 solved by enumerating the active sets."""
+    b = Builder("lcp", dt=0.01)
+    b.add_material("m", 0.0, 0.0, 25.0, 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, "m")
+    rot = np.asarray(__import__("thesis.physics.math", fromlist=["rodrigues"]).rodrigues(
+        jnp.asarray([0.05, -0.03, 0.0])))
+    b.add_box("box", (0.6, 0.4, 0.1), (0, 0, 0.095), rot=rot)
+    for x in (-0.25, 0.25):
+        for y in (-0.15, 0.15):
+            b.add_contact_sphere("box", 0.05, (x, y, -0.05))
+    b.set_velocity("box", (0, 0, -0.8), (0.4, 0.3, 0))
+    m, s = b.build(jnp.float64)
+    problem = _problem(m, s)
+    active = np.asarray(problem[4]["hi"][:4]) > 0
+    assert 0 < active.sum() < 4  # a genuine complementarity problem
+    jmat, minv, a, rhs, _ = _dense(m, *problem)
+    n = 4  # normal rows first; friction rows have mu = 0
+    best = None
+    for mask in itertools.product([0, 1], repeat=n):
+        idx = [i for i in range(n) if mask[i] and active[i]]
+        lam = np.zeros(a.shape[0])
+        if idx:
+            lam[idx] = np.linalg.solve(a[np.ix_(idx, idx)], rhs[idx])
+        w = a[:n, :n] @ lam[:n] - rhs[:n]
+        if np.all(lam >= -1e-12) and np.all(w[active] >= -1e-9):
+            best = lam
+            break
+    assert best is not None
+    v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ best
+    errs = [np.abs(_solve(m, problem, k) - v_direct).max() for k in (2, 10, 60, 400)]
+    assert errs[-1] < 1e-6 and errs[-1] < errs[0], errs
