@@ -46,7 +46,7 @@ Output: the interpolant of a real image is real; ``output="real"`` returns its r
 from __future__ import annotations
 
 import jax.numpy as jnp
-from jax import Array
+from jax import Array, lax
 
 __all__ = ["chirpz_resample", "direct_resample", "fast_len", "sample_grid"]
 
@@ -62,6 +62,11 @@ def fast_len(n: int) -> int:
         if r == 1:
             return m
         m += 1
+
+
+def _cis(angle: Array) -> Array:
+    """exp(i angle) for a real array, built with lax.complex (no implicit dtype promotion)."""
+    return lax.complex(jnp.cos(angle), jnp.sin(angle))
 
 
 def _centred(k: int) -> Array:
@@ -87,15 +92,18 @@ def sample_grid(n: int, m: int, x0, y0, theta, delta) -> tuple[Array, Array]:
     Returns:
         x, y: arrays (B, M, M), x_ij and y_ij in input pixels.
     """
+    theta = jnp.asarray(theta)
+    dt = theta.dtype if jnp.issubdtype(theta.dtype, jnp.floating) else jnp.float32
+    theta = theta.astype(dt)
     c = (n - 1) / 2.0
-    u = jnp.arange(m) - (m - 1) / 2.0
+    u = jnp.arange(m, dtype=dt) - (m - 1) / 2.0
     cos = jnp.cos(theta)[:, None, None]
     sin = jnp.sin(theta)[:, None, None]
-    d = jnp.asarray(delta)[:, None, None]
+    d = jnp.asarray(delta, dt)[:, None, None]
     uj = u[None, None, :]
     vi = u[None, :, None]
-    x = c + jnp.asarray(x0)[:, None, None] + d * (cos * uj - sin * vi)
-    y = c + jnp.asarray(y0)[:, None, None] + d * (sin * uj + cos * vi)
+    x = c + jnp.asarray(x0, dt)[:, None, None] + d * (cos * uj - sin * vi)
+    y = c + jnp.asarray(y0, dt)[:, None, None] + d * (sin * uj + cos * vi)
     return x, y
 
 
@@ -137,7 +145,8 @@ def chirpz_resample(
         raise ValueError(f"n_freq must be in [1, {n}], got {k}")
     if output not in ("real", "abs"):
         raise ValueError(f"output must be 'real' or 'abs', got {output!r}")
-    real_dtype = jnp.result_type(images.dtype, jnp.float32)
+    images = jnp.asarray(images)
+    real_dtype = images.dtype if jnp.issubdtype(images.dtype, jnp.floating) else jnp.float32
     cplx = jnp.complex128 if real_dtype == jnp.float64 else jnp.complex64
     theta = jnp.asarray(theta, real_dtype)
     delta = jnp.asarray(delta, real_dtype)
@@ -166,18 +175,18 @@ def chirpz_resample(
     # transpose, so A is evaluated at v = (k_y, k_x) and the output at n' = (j, i).
     phase = 2.0 * jnp.pi * (ky * oy[:, None, None] + kx * ox[:, None, None]) / n
     a_chirp = jnp.pi * quad(ky, kx)
-    u = spec * jnp.exp(1j * (phase + a_chirp).astype(real_dtype)).astype(cplx)
+    u = spec * _cis(phase + a_chirp)
 
     big = fast_len(k + m - 1)
     # B at lags τ - (K - 1) + K//2 for τ = 0..L-1 (only τ <= K + M - 2 is ever read)
     lag = (jnp.arange(big) - (k - 1) + k // 2).astype(real_dtype)
-    b_chirp = jnp.exp(-1j * (jnp.pi * quad(lag[None, :, None], lag[None, None, :]))).astype(cplx)
+    b_chirp = _cis(-jnp.pi * quad(lag[None, :, None], lag[None, None, :]))
     conv = jnp.fft.ifft2(
         jnp.fft.fft2(u, s=(big, big)) * jnp.fft.fft2(b_chirp), axes=(-2, -1)
     )
     out = conv[..., k - 1 : k - 1 + m, k - 1 : k - 1 + m]
     nn = jnp.arange(m).astype(real_dtype)
-    c_chirp = jnp.exp(1j * (jnp.pi * quad(nn[None, :, None], nn[None, None, :]))).astype(cplx)
+    c_chirp = _cis(jnp.pi * quad(nn[None, :, None], nn[None, None, :]))
     g = jnp.swapaxes(out * c_chirp, -1, -2) / (n * n)
     return jnp.real(g) if output == "real" else jnp.abs(g)
 
@@ -194,8 +203,8 @@ def direct_resample(images, x0, y0, theta, delta, out_size=None, n_freq=None, ou
     k = min(m, n) if n_freq is None else int(n_freq)
     spec = _crop_spectrum(jnp.fft.fft2(images), k)
     x, y = sample_grid(n, m, jnp.asarray(x0), jnp.asarray(y0), jnp.asarray(theta), jnp.asarray(delta))
-    kk = _centred(k)
-    ey = jnp.exp(2j * jnp.pi * kk[None, None, None, :] * y[..., None] / n)  # (B,M,M,K)
-    ex = jnp.exp(2j * jnp.pi * kk[None, None, None, :] * x[..., None] / n)
+    kk = _centred(k).astype(x.dtype)
+    ey = _cis(2 * jnp.pi * kk[None, None, None, :] * y[..., None] / n)  # (B,M,M,K)
+    ex = _cis(2 * jnp.pi * kk[None, None, None, :] * x[..., None] / n)
     g = jnp.einsum("bpq,bijp,bijq->bij", spec, ey, ex) / (n * n)
     return jnp.real(g) if output == "real" else jnp.abs(g)

@@ -66,7 +66,7 @@ class NetSpec:
 def conv2d(x, w, b):
     """'valid' 2-D convolution + bias: x (B, H, W, C), w (3, 3, C, F) -> (B, H-2, W-2, F)."""
     y = lax.conv_general_dilated(x, w, (1, 1), "VALID", dimension_numbers=("NHWC", "HWIO", "NHWC"))
-    return y + b
+    return y + b[None, None, None, :]
 
 
 def maxpool2(x):
@@ -107,7 +107,7 @@ def gru_step(p, h, x):
     c = tanh(x W_c + r ∘ (h U_c) + b_c), h' = (1 - u) ∘ h + u ∘ c.
     Shapes: h (B, H), x (B, I) -> (B, H).
     """
-    gx = x @ p["wx"] + p["b"]
+    gx = x @ p["wx"] + p["b"][None, :]
     gh = h @ p["wh"]
     nh = h.shape[-1]
     r = jax.nn.sigmoid(gx[:, :nh] + gh[:, :nh])
@@ -172,6 +172,11 @@ def init_net(key, spec: NetSpec):
     return p
 
 
+def _dense(x, layer):
+    """Dense layer x @ W + b with explicit broadcasting of b over the leading axes."""
+    return x @ layer["w"] + layer["b"].reshape((1,) * (x.ndim - 1) + (-1,))
+
+
 def _dropout(key, x, rate, train):
     if not train or rate <= 0.0:
         return x
@@ -212,14 +217,14 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
     nd = spec.n_digits
     if spec.model == "ffn_spn":
         if t.n_params:
-            h = jax.nn.relu(_loc_features(p, images) @ p["loc_dense"]["w"] + p["loc_dense"]["b"])
-            theta = h @ p["loc_out"]["w"] + p["loc_out"]["b"]
+            h = jax.nn.relu(_dense(_loc_features(p, images), p["loc_dense"]))
+            theta = _dense(h, p["loc_out"])
             x = t(images, theta, spec.out_size)
         else:
             theta, x = None, images
         f = _cls_features(p, x, key, rate, train)
-        f = jax.nn.relu(f @ p["cls_dense"]["w"] + p["cls_dense"]["b"])
-        logits = (f @ p["cls_out"]["w"] + p["cls_out"]["b"]).reshape(b, nd, 10)
+        f = jax.nn.relu(_dense(f, p["cls_dense"]))
+        logits = (_dense(f, p["cls_out"])).reshape(b, nd, 10)
         return (logits, theta) if return_params else logits
 
     # RNN-SPN
@@ -230,7 +235,7 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
 
         def step(h, _):
             h = gru_step(g, h, feat)
-            return h, h @ p["loc_out"]["w"] + p["loc_out"]["b"]
+            return h, _dense(h, p["loc_out"])
 
         _, theta = lax.scan(step, h0, None, length=nd)  # (nd, B, P)
         theta = jnp.swapaxes(theta, 0, 1)  # (B, nd, P)
@@ -238,7 +243,7 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
             jnp.repeat(images, nd, axis=0), theta.reshape(b * nd, -1), spec.out_size
         )  # (B*nd, M, M), sample-major
         f = _cls_features(p, crops, key, rate, train)
-        f = jax.nn.relu(f @ p["cls_dense"]["w"] + p["cls_dense"]["b"])
+        f = jax.nn.relu(_dense(f, p["cls_dense"]))
     else:
         theta = None
         feat = _cls_features(p, images, key, rate, train)
@@ -248,8 +253,8 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
             return h, h
 
         _, hs = lax.scan(step, h0, None, length=nd)  # (nd, B, H)
-        pre = feat @ p["cls_dense"]["w"] + p["cls_dense"]["b"]
-        mod = jnp.einsum("tbh,hk->btk", hs, p["gru_to_cls"]["w"]) + p["gru_to_cls"]["b"]
+        pre = _dense(feat, p["cls_dense"])
+        mod = jnp.einsum("tbh,hk->btk", hs, p["gru_to_cls"]["w"]) + p["gru_to_cls"]["b"][None, None, :]
         f = jax.nn.relu(pre[:, None, :] + mod).reshape(b * nd, -1)
-    logits = (f @ p["cls_out"]["w"] + p["cls_out"]["b"]).reshape(b, nd, 10)
+    logits = (_dense(f, p["cls_out"])).reshape(b, nd, 10)
     return (logits, theta) if return_params else logits

@@ -78,7 +78,8 @@ def _make_steps(spec: NetSpec, opt_cfg: tuple):
     @jax.jit
     def train_step(params, opt_state, x, y, key):
         loss, grads = jax.value_and_grad(_loss)(params, spec, x, y, key)
-        updates, opt_state = optimizer.update(grads, opt_state, params)
+        with jax.numpy_dtype_promotion("standard"):  # optax's Adam mixes int counts and floats
+            updates, opt_state = optimizer.update(grads, opt_state, params)
         return optax.apply_updates(params, updates), opt_state, loss
 
     @jax.jit
