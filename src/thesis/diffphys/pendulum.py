@@ -61,7 +61,7 @@ def kick(model, state0, omega):
     pivot = state0.pos[model.body("sled")]  # the hinge is at the sled centre
     w = jnp.array([0.0, 1.0, 0.0], state0.pos.dtype) * omega
     idx = np.array([model.body("bar"), model.body("top")])
-    r = state0.pos[idx] - pivot
+    r = state0.pos[idx] - pivot[None]
     vel = state0.vel.at[idx].set(jnp.cross(jnp.broadcast_to(w, r.shape), r))
     angvel = state0.angvel.at[idx].set(jnp.broadcast_to(w, r.shape))
     return state0.replace(vel=vel, angvel=angvel, prev_vel=vel)
