@@ -1,0 +1,21 @@
+"""Chapter 2: spatial chirp-Z transformer networks on cluttered MNIST sequences.
+
+Modules (one job each):
+
+- :mod:`~thesis.chirpz.czt`: the chirp-Z transform layer (Alg. 2.1, eq. 2.1, §2.3-§2.4);
+- :mod:`~thesis.chirpz.transforms`: bilinear (6 parameters), bilinear no-skew (4),
+  chirp-Z (4) and "none" behind one interface (``TRANSFORMS``, ``get_transform``);
+- :mod:`~thesis.chirpz.data` and :mod:`~thesis.chirpz.idx`: the cluttered MNIST sequence
+  synthesiser (§2.5) and the MNIST IDX reader;
+- :mod:`~thesis.chirpz.nets`: FFN-SPN and RNN-SPN of Tab. 2.1 in plain JAX;
+- :mod:`~thesis.chirpz.train`: the training loop (§2.5, FACTS §3.2);
+- :mod:`~thesis.chirpz.experiments`: the registered experiments ``ch2/cluttered_mnist``,
+  ``ch2/table2_2_ffn_spn``, ``ch2/table2_2_rnn_spn``, ``ch2/table2_2`` and
+  ``ch2/chirpz_scaling`` (``thesis bench chirpz``).
+"""
+
+from thesis.chirpz.czt import chirpz_resample, direct_resample
+from thesis.chirpz.transforms import TRANSFORMS, Transform, bilinear_sample, get_transform
+
+__all__ = ["chirpz_resample", "direct_resample", "TRANSFORMS", "Transform", "bilinear_sample",
+           "get_transform"]
