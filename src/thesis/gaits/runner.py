@@ -140,7 +140,8 @@ def detrend(x, window: int):
     """``x`` (K, ...) minus its centred moving average over ``window`` samples (edges:
     the average over the samples available)."""
     x = np.asarray(x, np.float64)
-    if window <= 1:
+    window = min(int(window), len(x))  # a window longer than the track: its mean
+    if window <= 1 or window == len(x):
         return x - x.mean(axis=0)
     k = np.ones(window) / window
     num = np.apply_along_axis(lambda v: np.convolve(v, k, mode="same"), 0, x)
