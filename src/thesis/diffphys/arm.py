@@ -33,7 +33,7 @@ from thesis import seeding
 from thesis.diffphys import bptt, nets
 from thesis.diffphys.engine_fixes import without_deadband
 from thesis.optim import cmaes
-from thesis.physics import batched_rollout, rollout
+from thesis.physics import rollout
 from thesis.physics.math import safe_norm
 from thesis.physics.models import arm4
 
@@ -257,11 +257,14 @@ def arm_random(ctx) -> xr.Dataset:
         return nets.mlp_apply(params, memory), memory
 
     def batch_run(params, targets, grad_decay, remat):
-        states = jax.tree.map(lambda x: jnp.broadcast_to(x, (targets.shape[0],) + x.shape),
-                              state0)
-        _, traj = batched_rollout(model, states, controller, params, n_steps, memory0=targets,
-                                  batch_memory=True, grad_decay=grad_decay, remat=remat,
-                                  record=("body_pos",))
+        # jax.vmap of rollout, not thesis.physics.batched_rollout: with two host devices
+        # its shard_map fails under jax.grad ("Context mesh ... Manual should match the
+        # mesh of sharding ... Auto passed to broadcast_in_dim", rollout.py), so the batch
+        # runs on one core.
+        def one(target):
+            return rollout(model, state0, controller, params, n_steps, memory0=target,
+                           grad_decay=grad_decay, remat=remat, record=("body_pos",))[1]
+        traj = jax.vmap(one)(targets)
         d = safe_norm(traj["body_pos"][:, :, ee] - targets[:, None], axis=-1)  # (B, T)
         return jnp.mean(d), jnp.mean(d[:, -window:])
 
