@@ -8,9 +8,11 @@ Every number cites its source: the thesis section, or FACTS §2.10 / the [TPX] r
 from thesis.physics.models.arm4 import arm4 as arm4
 from thesis.physics.models.ball import ball as ball
 from thesis.physics.models.cartpole import cartpole as cartpole
+from thesis.physics.models.oncilla import oncilla as oncilla
 from thesis.physics.models.quadruped import quadruped as quadruped
 
 #: name -> constructor
-MODELS = {"ball": ball, "arm4": arm4, "quadruped": quadruped, "cartpole": cartpole}
+MODELS = {"ball": ball, "arm4": arm4, "quadruped": quadruped, "cartpole": cartpole,
+          "oncilla": oncilla}
 
-__all__ = ["ball", "arm4", "quadruped", "cartpole", "MODELS"]
+__all__ = ["ball", "arm4", "quadruped", "cartpole", "oncilla", "MODELS"]
