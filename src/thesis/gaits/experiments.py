@@ -10,6 +10,7 @@ compared.
 
 from __future__ import annotations
 
+import importlib
 import functools
 
 import numpy as np
@@ -22,7 +23,8 @@ from thesis.gaits import transitions
 from thesis.gaits import trajectories as T
 from thesis.gaits import turning as TU
 from thesis.optim import pso
-from thesis.physics.models import oncilla as O
+# the module (the package re-exports the constructor under the same name)
+O = importlib.import_module("thesis.physics.models.oncilla")
 
 #: Dataset gait name -> family object (one instance each, so compiled functions are reused).
 FAMILIES = {"sine": T.SineGait(), "half_ellipse": T.EllipseGait(), "spline": T.SplineGait()}

@@ -22,6 +22,7 @@ camera's 100 Hz), obtained with the engine camera's ``project_points``.
 
 from __future__ import annotations
 
+import importlib
 import functools
 import math
 import time
@@ -34,7 +35,8 @@ import numpy as np
 from thesis.gaits import transitions
 from thesis.physics import batched_rollout
 from thesis.physics.camera import project_points
-from thesis.physics.models import oncilla as O
+# the module (the package re-exports the constructor under the same name)
+O = importlib.import_module("thesis.physics.models.oncilla")
 
 #: Command period [s] (§3.2.2).
 COMMAND_PERIOD = O.COMMAND_PERIOD
