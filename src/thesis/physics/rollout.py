@@ -12,10 +12,10 @@ Two tricks of §7.3.2 / FACTS §2.11 are built in:
 * ``remat=True``: ``jax.checkpoint`` on the scan body, so the backward pass stores one
   state per step instead of every intermediate of the solver (memory O(steps * state)).
 
-``batched_rollout`` vmaps over a batch of initial states (and optionally memories) and,
-when more than one XLA host device exists (``--xla_force_host_platform_device_count``,
-FACTS §8: XLA runs one core per device here), splits the batch across the devices with
-``jax.shard_map``.
+``batched_rollout`` runs a batch of initial states (and optionally memories), robot by
+robot or in vmapped chunks, and, when more than one XLA host device exists
+(``--xla_force_host_platform_device_count``, FACTS §8: XLA runs one core per device
+here), splits the batch across the devices with ``jax.shard_map``.
 """
 
 from __future__ import annotations
@@ -80,20 +80,30 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
 
 
 def batched_rollout(model: Model, states0: State, controller, params, n_steps: int, *,
-                    memory0=None, batch_memory=False, **kwargs):
+                    memory0=None, batch_memory=False, chunk=1, **kwargs):
     """``rollout`` over a batch of initial states (leading axis B), sharing ``params``.
 
     With ``jax.device_count() > 1`` and B divisible by the device count, the batch is
-    split across the host devices (``shard_map`` over a 1-D mesh ``"batch"``); otherwise
-    it is a plain ``jax.vmap``. ``memory0`` is shared unless ``batch_memory=True``.
-    Returns ``(final_states, trajectories)`` with a leading batch axis.
+    split across the host devices (``shard_map`` over a 1-D mesh ``"batch"``). On each
+    device the robots run ``chunk`` at a time (``jax.lax.map`` over chunks of a
+    ``jax.vmap``); ``chunk=None`` vmaps the whole local batch. The default ``chunk=1``
+    is a sequential map: on CPU, this engine's vmapped gathers are strided and a vmapped
+    robot costs ~3x a sequential one (measured: 46.6 ms vs ~15 ms per step for 128
+    quadrupeds); on an accelerator pass ``chunk=None``. ``memory0`` is shared unless
+    ``batch_memory=True``. Returns ``(final_states, trajectories)`` with a leading batch
+    axis; results equal ``jax.vmap(rollout)`` up to float round-off.
     """
     mem_axis = 0 if batch_memory else None
 
+    def one(s, mm):
+        return rollout(model, s, controller, params, n_steps, memory0=mm, **kwargs)
+
     def run(s0, mem):
-        f = lambda s, mm: rollout(model, s, controller, params, n_steps,  # noqa: E731
-                                  memory0=mm, **kwargs)
-        return jax.vmap(f, in_axes=(0, mem_axis))(s0, mem)
+        if chunk is None:
+            return jax.vmap(one, in_axes=(0, mem_axis))(s0, mem)
+        if batch_memory:
+            return jax.lax.map(lambda sm: one(*sm), (s0, mem), batch_size=chunk)
+        return jax.lax.map(lambda s: one(s, mem), s0, batch_size=chunk)
 
     n_dev = jax.device_count()
     batch = jax.tree.leaves(states0)[0].shape[0]
