@@ -98,12 +98,16 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
     def one(s, mm):
         return rollout(model, s, controller, params, n_steps, memory0=mm, **kwargs)
 
+    # lax.map's batch_size reshapes with -1, which fails on zero-size leaves (a model
+    # without joints has a (B, 0, 6) impulse array): chunk=1 uses a plain map instead
+    size = None if chunk == 1 else chunk
+
     def run(s0, mem):
         if chunk is None:
             return jax.vmap(one, in_axes=(0, mem_axis))(s0, mem)
         if batch_memory:
-            return jax.lax.map(lambda sm: one(*sm), (s0, mem), batch_size=chunk)
-        return jax.lax.map(lambda s: one(s, mem), s0, batch_size=chunk)
+            return jax.lax.map(lambda sm: one(*sm), (s0, mem), batch_size=size)
+        return jax.lax.map(lambda s: one(s, mem), s0, batch_size=size)
 
     n_dev = jax.device_count()
     batch = jax.tree.leaves(states0)[0].shape[0]
