@@ -129,9 +129,25 @@ def test_pendulum():
         "not_reproduced")
 
 
-def test_not_built_claim():
-    v = check("ch7.cmaes_fails_on_arm", arm_fixed_cmaes=xr.Dataset())
-    assert v.status == "not_run" and v.detail == claims.NOT_IMPLEMENTED
+def _arm_fixed(cmaes_reached, gradient_reached, n_eval=50):
+    seeds = [0, 1, 2]
+    reached = xr.DataArray(np.array([gradient_reached, cmaes_reached], np.int8),
+                           dims=("method", "seed"),
+                           coords={"method": ["gradient", "cmaes"], "seed": seeds},
+                           attrs={"units": "1", "long_name": "reached 4 cm"})
+    err = xr.DataArray(np.full((2, 3, n_eval), 0.5), dims=("method", "seed", "evaluation"),
+                       coords={"method": ["gradient", "cmaes"], "seed": seeds,
+                               "evaluation": np.arange(1, n_eval + 1)},
+                       attrs={"units": "m", "long_name": "error"})
+    return xr.Dataset({"reached_4cm": reached, "error": err})
+
+
+def test_cmaes_fails_on_arm_verdicts():
+    name = "ch7.cmaes_fails_on_arm"
+    assert check(name, arm_fixed=_arm_fixed([0, 0, 0], [1, 1, 1])).status == "reproduced"
+    assert check(name, arm_fixed=_arm_fixed([0, 1, 0], [1, 1, 1])).status == "not_reproduced"
+    assert check(name, arm_fixed=_arm_fixed([0, 0, 0], [1, 0, 1])).status == "inconclusive"
+    assert check(name).status == "not_run"
 
 
 def test_thesis_own_table7_1_satisfies_its_timing_claims():
@@ -151,3 +167,20 @@ def test_thesis_own_table7_1_satisfies_its_timing_claims():
                 "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",
                 "ch7.gpu_speeds_up_large_batches"):
         assert check(cid, table7_1=ds).status == "reproduced", cid
+
+
+def test_ball_runs_that_never_converge_count_against_the_method():
+    seeds = [0, 1, 2]
+    it = xr.DataArray(np.array([[np.nan] * 3, [1100.0, 950.0, 1400.0]]),
+                      dims=("method", "seed"),
+                      coords={"method": ["gradient", "cmaes"], "seed": seeds},
+                      attrs={"units": "1", "long_name": "iterations"})
+    conv = xr.DataArray(np.array([[0, 0, 0], [1, 1, 1]], np.int8), dims=("method", "seed"),
+                        coords=it.coords, attrs={"units": "1", "long_name": "converged"})
+    ds = xr.Dataset({"iterations": it, "converged": conv})
+    v = check("ch7.gradient_needs_fewer_iterations", ball=ds)
+    assert v.status == "not_reproduced" and v.measured["gradient_runs_converged"] == 0
+    flipped = ds.copy(deep=True)
+    flipped["converged"].values = np.array([[1, 1, 1], [0, 0, 0]], np.int8)
+    flipped["iterations"].values = np.array([[80.0, 90.0, 85.0], [np.nan] * 3])
+    assert check("ch7.gradient_needs_fewer_iterations", ball=flipped).status == "reproduced"
