@@ -77,3 +77,19 @@ def test_no_nan_gradients_for_coincident_spheres_and_zero_spin():
     g = jax.grad(lambda s0: jnp.sum(step(m, step(m, s0, jnp.zeros((0,))),
                                          jnp.zeros((0,))).pos ** 2))(s)
     assert _all_finite(g)
+
+
+def test_servo_command_gradient_at_zero_error_without_dead_band():
+    """A zero-output policy starts with commands equal to the joint angles (§7.3.2): with
+    no dead band the servo must act there, so the gradient w.r.t. the command is not zero;
+    with a dead band it is zero by construction."""
+
+    def effector_x(cmd, deadband):
+        m, s = arm4(solver_iterations=5, servo_deadband=deadband)
+        ctrl = lambda p, sens, mem, t: (jnp.zeros((4,)) + p, mem)  # noqa: E731
+        return rollout(m, s, ctrl, cmd, 1)[0].pos[4, 0]
+
+    g0 = jax.grad(effector_x)(0.0, 0.0)
+    g_band = jax.grad(effector_x)(0.0, 0.01)
+    assert np.isfinite(g0) and abs(float(g0)) > 1e-6
+    assert float(g_band) == 0.0

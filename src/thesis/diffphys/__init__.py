@@ -6,8 +6,7 @@
 - :mod:`~thesis.diffphys.pendulum`: §7.3.3.1 cart-pole swing-up from camera pixels;
 - :mod:`~thesis.diffphys.nets`, :mod:`~thesis.diffphys.bptt`: controllers and the BPTT
   tricks of §7.3.2; :mod:`~thesis.diffphys.frames`: frame strips from the engine camera;
-  :mod:`~thesis.diffphys.engine_fixes`: documented workarounds;
-- ``bench_engine``, ``bench_mjx``, ``quadruped_mjcf``: Tab. 7.1 (another module owner).
+- ``bench_engine``, ``bench_mjx``, ``quadruped_mjcf``: Tab. 7.1.
 
 Experiment modules are imported lazily by :mod:`thesis.registry`.
 """

@@ -31,7 +31,6 @@ from jax.flatten_util import ravel_pytree
 
 from thesis import seeding
 from thesis.diffphys import bptt, nets
-from thesis.diffphys.engine_fixes import without_deadband
 from thesis.optim import cmaes
 from thesis.physics import rollout
 from thesis.physics.math import safe_norm
@@ -49,9 +48,8 @@ def cm_name(threshold_m: float) -> str:
 
 def build(cfg: dict):
     """(model, state0) of the arm with the profile's time step and solver iterations; no
-    servo dead band (the thesis states none; see :mod:`thesis.diffphys.engine_fixes`)."""
-    model, state0 = arm4(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"])
-    return without_deadband(model), state0
+    servo dead band (§7.3.2 states gain, torque and velocity only)."""
+    return arm4(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"], servo_deadband=0.0)
 
 
 def episode_fn(model, state0, n_steps: int, window: int, *, inputs: str, grad_decay=1.0,

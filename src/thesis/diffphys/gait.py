@@ -26,7 +26,6 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.diffphys import bptt, frames, nets
-from thesis.diffphys.engine_fixes import without_deadband
 from thesis.physics import rollout
 from thesis.physics.models import quadruped
 
@@ -37,9 +36,8 @@ SPINE = "spine"
 
 def build(cfg: dict):
     """(model, state0) of the quadruped with the profile's time step and solver iterations
-    (servos without dead band, :mod:`thesis.diffphys.engine_fixes`)."""
-    model, state0 = quadruped(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"])
-    return without_deadband(model), state0
+    (its servos have no dead band, FACTS §2.10)."""
+    return quadruped(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"])
 
 
 def controller_fn(frequency_hz: float):

@@ -36,7 +36,6 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.diffphys import bptt, frames, nets
-from thesis.diffphys.engine_fixes import without_deadband
 from thesis.physics import render, step
 from thesis.physics.math import safe_norm
 from thesis.physics.models import cartpole
@@ -50,9 +49,8 @@ RAIL_RANGE = 1.0
 
 def build(cfg: dict):
     """(model, state0) of the cart-pole at the profile's resolution, no servo dead band."""
-    model, state0 = cartpole(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"],
-                             pixels=tuple(int(p) for p in cfg["pixels"]))
-    return without_deadband(model), state0
+    return cartpole(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"],
+                    pixels=tuple(int(p) for p in cfg["pixels"]))
 
 
 def kick(model, state0, omega):

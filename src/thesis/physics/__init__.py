@@ -7,7 +7,7 @@ Public API (engine_api.md); everything not re-exported here is private:
 * ``step(model, state, action) -> State``;
 * ``sensors(model, state) -> dict``;
 * ``rollout`` / ``batched_rollout`` / ``decay_gradient`` (BPTT through closed loops);
-* ``render`` (differentiable camera, ``camera.py``);
+* ``render``, ``render_batch``, ``project_points`` (differentiable camera, ``camera.py``);
 * ``box_inertia``, ``sphere_inertia``, ``orthonormalize`` (eq. 7.1), ``safe_norm``.
 
 Module map: ``types`` (Model, State, enums), ``math``, ``builder`` + ``tables`` (host ->
@@ -33,13 +33,13 @@ from thesis.physics.types import Model as Model
 from thesis.physics.types import ServoKind as ServoKind
 from thesis.physics.types import State as State
 
-try:  # written by the camera helper against engine_api.md
-    from thesis.physics.camera import render as render
-except ImportError:  # pragma: no cover - camera not present yet
-    pass
+from thesis.physics.camera import project_points as project_points
+from thesis.physics.camera import render as render
+from thesis.physics.camera import render_batch as render_batch
 
 __all__ = [
     "Builder", "Model", "State", "JointType", "DofKind", "ServoKind", "GeomType",
     "step", "sensors", "rollout", "batched_rollout", "decay_gradient", "render",
+    "render_batch", "project_points",
     "box_inertia", "sphere_inertia", "orthonormalize", "safe_norm",
 ]

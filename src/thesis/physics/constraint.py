@@ -86,7 +86,9 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         d = m.servo_dof
         cmd = jnp.clip(action.astype(dtype), m.servo_lo, m.servo_hi)
         err = q[d] - cmd
-        live = (jnp.abs(err) > m.servo_deadband).astype(dtype)
+        # inside the dead band the servo aims at zero velocity; a dead band of 0 means none,
+        # so the row (and its gradient w.r.t. the command) acts at zero error too
+        live = (jnp.abs(err) >= m.servo_deadband).astype(dtype)
         target_pos = -jnp.clip(m.servo_gain * err * live, -m.servo_max_velocity,
                                m.servo_max_velocity)
         is_pos = np.asarray(m.servo_kind == ServoKind.POSITION)
