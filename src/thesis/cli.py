@@ -50,10 +50,21 @@ def _overrides(items: list[str] | None) -> dict:
     return out
 
 
+#: Chapters whose experiments run on the physics engine: its section is part of their slice.
+PHYSICS_CHAPTERS = ("ch3", "ch4", "ch5", "ch6", "ch7")
+
+
 def config_slice(config: dict, chapter: str) -> dict:
-    """The part of the configuration a chapter's results depend on (hashed into params)."""
-    return {"root_seed": config["root_seed"], "jax": config["jax"],
-            chapter: config.get(chapter, {})}
+    """The part of the configuration a chapter's results depend on (hashed into params).
+
+    The chapter's section, the root seed and the JAX settings, plus the ``physics``
+    section (engine settings and the Tab. 7.1 benchmark) for chapters on the engine.
+    """
+    out = {"root_seed": config["root_seed"], "jax": config["jax"],
+           chapter: config.get(chapter, {})}
+    if chapter in PHYSICS_CHAPTERS:
+        out["physics"] = config.get("physics", {})
+    return out
 
 
 def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = None,

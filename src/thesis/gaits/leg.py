@@ -202,12 +202,12 @@ def _fk_q(geom: LegGeometry, q: jnp.ndarray) -> jnp.ndarray:
 
 def _grid_init(geom: LegGeometry, target: jnp.ndarray, n: int) -> jnp.ndarray:
     """Nearest point of an n×n joint grid (coarse global start for the local solver)."""
-    u = (jnp.arange(n) + 0.5) / n
+    u = (jnp.arange(n, dtype=target.dtype) + 0.5) / n
     hips = geom.hip_min + u * (geom.hip_max - geom.hip_min)
     knees = geom.knee_min + u * (geom.knee_max - geom.knee_min)
     H, K = jnp.meshgrid(hips, knees, indexing="ij")
     P = forward(geom, H, K)
-    d2 = jnp.sum((P - target) ** 2, axis=-1).reshape(-1)
+    d2 = jnp.sum((P - target[None, None, :]) ** 2, axis=-1).reshape(-1)
     i = jnp.argmin(d2)
     q0 = jnp.stack([H.reshape(-1)[i], K.reshape(-1)[i]])
     return jax.lax.stop_gradient(q0)
