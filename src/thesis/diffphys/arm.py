@@ -31,6 +31,7 @@ from jax.flatten_util import ravel_pytree
 
 from thesis import seeding
 from thesis.diffphys import bptt, nets
+from thesis.diffphys.curves import pad_curves
 from thesis.optim import cmaes
 from thesis.physics import rollout
 from thesis.physics.math import safe_norm
@@ -137,13 +138,6 @@ def _cmaes_fixed(run, params0, target, cfg, cma_seed, key, seed):
     return np.asarray(losses[:n]), np.asarray(errors[:n]), time.perf_counter() - t0
 
 
-def _curve(rows, n):
-    out = np.full((len(rows), n), np.nan)
-    for i, r in enumerate(rows):
-        out[i, :len(r)] = r
-    return out
-
-
 def arm_fixed(ctx) -> xr.Dataset:
     """Experiment ``ch7/arm_fixed`` (§7.3.2.1): model evaluations until the end effector is
     within 4 cm and within 1 cm of (0.5, 0.5, 0.5) m, BPTT + Adam against CMA-ES.
@@ -183,7 +177,7 @@ def arm_fixed(ctx) -> xr.Dataset:
                          err[-1], np.min(err), wall)
     n_eval = max(len(e) for m in methods for e in res[m]["error"])
     dims = ("method", "seed")
-    error = np.stack([_curve(res[m]["error"], n_eval) for m in methods])
+    error = np.stack([pad_curves(res[m]["error"], n_eval) for m in methods])
     best = np.fmin.accumulate(np.where(np.isnan(error), np.inf, error), axis=-1)
     best = np.where(np.isnan(error), np.nan, best)
     data = {
@@ -197,7 +191,7 @@ def arm_fixed(ctx) -> xr.Dataset:
         "best_error": (("method", "seed", "evaluation"), best, {
             "units": "m", "long_name": "lowest error so far"}),
         "objective": (("method", "seed", "evaluation"),
-                      np.stack([_curve(res[m]["objective"], n_eval) for m in methods]), {
+                      np.stack([pad_curves(res[m]["objective"], n_eval) for m in methods]), {
             "units": "m", "long_name": "objective: end-effector distance averaged over "
             "every time step"}),
         "wall_seconds": (dims, np.array([res[m]["wall"] for m in methods]), {

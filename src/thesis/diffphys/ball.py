@@ -32,6 +32,7 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.diffphys import bptt
+from thesis.diffphys.curves import pad_curves
 from thesis.optim import cmaes
 from thesis.physics import rollout
 from thesis.physics.math import safe_norm
@@ -168,13 +169,6 @@ def run_cmaes(batch, x0, ccfg: dict, tol_pos: float, tol_vel: float, cma_seed: i
                 x=np.asarray(best[3]))
 
 
-def _pad(curves, n):
-    out = np.full((len(curves), n), np.nan)
-    for i, c in enumerate(curves):
-        out[i, :len(c)] = c
-    return out
-
-
 def ball(ctx) -> xr.Dataset:
     """Experiment ``ch7/ball`` (§7.2.1): iterations and wall time of BPTT gradient descent
     and CMA-ES on the ball throw, per seed.
@@ -234,11 +228,11 @@ def ball(ctx) -> xr.Dataset:
                          np.array([[r["x"] for r in rows[m]] for m in methods]), {
                 "units": "m/s or rad/s", "long_name": "returned (v0, w0)"}),
             "gradient_loss": (("seed", "gd_iteration"),
-                              _pad(gd_curves, max(len(c) for c in gd_curves)), {
+                              pad_curves(gd_curves), {
                 "units": "1", "long_name": "loss (position + velocity error) per gradient "
                 "iteration"}),
             "cmaes_loss": (("seed", "cmaes_evaluation"),
-                           _pad(cma_curves, max(len(c) for c in cma_curves)), {
+                           pad_curves(cma_curves), {
                 "units": "1", "long_name": "loss of each CMA-ES candidate in evaluation "
                 "order"}),
         },
