@@ -2,7 +2,8 @@
 # reports/default/index.html); `make test` runs the tests. Both install what they need.
 SHELL := /bin/bash
 PROFILE ?= default
-UV := $(shell command -v uv 2>/dev/null || echo $(HOME)/.local/bin/uv)
+# uv on PATH, else the one pip installs into this python (`python3 -m uv`, no PATH needed).
+UV := $(shell command -v uv 2>/dev/null || echo python3 -m uv)
 SNAKEMAKE := $(UV) run --locked snakemake
 export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
 
@@ -37,7 +38,7 @@ lint: env
 	for p in smoke default paper; do $(SNAKEMAKE) -n -q --config profile=$$p || exit 1; done
 
 uv:
-	@command -v uv >/dev/null 2>&1 || test -x $(HOME)/.local/bin/uv || python3 -m pip install --user --quiet uv
+	@command -v uv >/dev/null 2>&1 || python3 -m uv --version >/dev/null 2>&1 || python3 -m pip install --quiet uv
 
 env: uv
 	$(UV) sync --locked
