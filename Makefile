@@ -7,7 +7,7 @@ UV := $(shell command -v uv 2>/dev/null || echo python3 -m uv)
 SNAKEMAKE := $(UV) run --locked snakemake
 export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
 
-.PHONY: all smoke paper test test-fast env uv chromium update-reference report lint clean-smoke
+.PHONY: all smoke paper test test-fast env env-test uv chromium update-reference report lint clean-smoke
 
 all: env
 	$(SNAKEMAKE) --config profile=$(PROFILE)
@@ -21,12 +21,12 @@ paper:
 
 # The whole test suite, including the smoke pipeline end to end, its regression against
 # tests/regression/smoke and the headless-browser check of its report.
-test: env chromium
-	$(UV) run --locked pytest
+test: env-test chromium
+	$(UV) run --locked --extra bench pytest
 
 # Everything but the smoke pipeline (quick feedback while developing).
-test-fast: env
-	$(UV) run --locked pytest -m "not pipeline and not browser"
+test-fast: env-test
+	$(UV) run --locked --extra bench pytest -m "not pipeline and not browser"
 
 # Rewrite the smoke references on purpose (prints what changed).
 update-reference: env
@@ -42,6 +42,10 @@ uv:
 
 env: uv
 	$(UV) sync --locked
+
+# The tests also check the MJCF peer of Tab. 7.1 against MuJoCo (the optional bench extra).
+env-test: uv
+	$(UV) sync --locked --extra bench
 
 # Debian's chromium for the browser test (needs root; skipped when already present).
 chromium:
