@@ -50,6 +50,24 @@ def test_sigma_terms_react_to_a_wobbling_led(model):
     assert yawing["fitness"][0] < still["fitness"][0] - 0.2
 
 
+def test_fallen_robot_scores_minus_infinity(model):
+    """A robot that rolled onto its side and lies still (LED steady, no distance) would
+    score about 0 by eq. 3.3, more than a walking gait with some wobble; it must lose."""
+    walking = _poses(model, 3, 3)
+    lying = _poses(model, 0, 0)
+    lying["pos"][0, :, 0, 0] = 0.0
+    lying["pos"][0, 50:100, 0, 2] = np.linspace(0.16, 0.05, 50)  # sinks to the floor
+    lying["pos"][0, 100:, 0, 2] = 0.05
+    roll = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], float)  # 90 degrees about x
+    lying["rot"][0, 100:, 0] = roll
+    w = R.fitness_terms(model, walking, 0.0, 1.5, 0.1, 0.08)
+    f = R.fitness_terms(model, lying, 0.0, 1.5, 0.1, 0.08)
+    assert not w["fallen"][0] and np.isfinite(w["fitness"][0])
+    assert f["fallen"][0] and f["fitness"][0] == -np.inf
+    # the distance is still reported (for the datasets), only the fitness is -inf
+    assert f["distance"][0] == pytest.approx(0.0, abs=1e-9)
+
+
 def test_led_centred_when_straight_ahead(model):
     uv = R.led_pixels(model, _poses(model, 0, 0)["pos"][:, :1], _poses(model, 0, 0)["rot"][:, :1],
                       1.5, 0.1)

@@ -165,10 +165,17 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
     ``t_start`` and ``t_end`` (scalars or (B,)) bound each robot's window (``t_end``
     None: to the end of the simulation).
 
+    A robot that falls gets fitness ``-inf``: eq. 3.3 presumes a robot that walks on the
+    treadmill, and a robot lying on its side hardly moves and keeps the LED still, so
+    its eq. 3.3 value (about 0) beats every walking gait whose wobble costs more than its
+    distance gains. Measured (Nov 2026, default profile, seed 0): in the first PSO
+    generation 22 of 24 robots fell, and the best eq. 3.3 values of the sine and spline
+    swarms (-0.03 and 0.19) were robots lying on their side.
+
     Returns a dict of (B,) arrays: ``distance`` [m] (trunk x displacement), ``speed``
-    [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3), ``fallen`` (bool:
-    trunk lower than ``fall_height`` [m] or tilted more than 60 degrees, or an
-    unphysical simulation, see :func:`exploded`) and ``exploded``.
+    [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3, ``-inf`` if fallen),
+    ``fallen`` (bool: trunk lower than ``fall_height`` [m] or tilted more than 60
+    degrees, or an unphysical simulation, see :func:`exploded`) and ``exploded``.
     """
     trunk = O.trunk_index(model)
     B = sim["pos"].shape[0]
@@ -193,7 +200,7 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
         with np.errstate(invalid="ignore"):
             fallen[i] = bad[i] or tp[:, 2].min() < fall_height or up.min() < 0.5
         fit = dist - sx / 150.0 - sy / 300.0
-        ok = np.isfinite(fit) and not bad[i]
+        ok = np.isfinite(fit) and not fallen[i]
         out["distance"][i] = dist if not bad[i] else np.nan
         out["speed"][i] = out["distance"][i] / span
         out["sigma_x"][i], out["sigma_y"][i] = sx, sy
