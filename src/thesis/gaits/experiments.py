@@ -19,7 +19,6 @@ import xarray as xr
 from thesis import seeding
 from thesis.errors import SimulationDiverged
 from thesis.gaits import runner as R
-from thesis.gaits import transitions
 from thesis.gaits import trajectories as T
 from thesis.gaits import turning as TU
 from thesis.optim import pso
@@ -66,8 +65,8 @@ def _mixed_fn(mem, t, sens):
 
     def branch(fam):
         n = len(fam.names)
-        return lambda m: transitions.transition_commands(
-            fam, m["p_from"][:n], m["p_to"][:n], t - m["settle"], m["t_transition"])
+        return lambda m: R.protocol_commands(
+            fam, m["p_from"][:n], m["p_to"][:n], t, m["settle"], m["t_transition"])
 
     return jax.lax.switch(mem["family"], [branch(FAMILIES[g]) for g in GAITS], mem)
 

@@ -9,7 +9,8 @@ runs at the model's finer ``dt``.
 Evaluation protocol of one gait (§3.2.4-3.2.5, on the treadmill the gaits run one after
 another; here each particle is simulated from standing):
 
-* ``settle`` seconds standing in the outgoing gait's pose at phase 0;
+* ``settle`` seconds easing from the build pose into the outgoing gait's pose at phase
+  0 (:func:`protocol_commands`);
 * a §3.2.5 transition of ``t_transition`` seconds from the outgoing gait (the previous
   particle in evaluation order, as on the treadmill) to the gait under test;
 * ``t_run`` seconds of the gait under test: the evaluation window.
@@ -105,14 +106,35 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None):
 
 
 # ------------------------------------------------------------------- gait commands
+def protocol_commands(family, p_from, p_to, t, settle, t_transition):
+    """(12,) joint commands [rad] of the evaluation protocol at time ``t`` [s].
+
+    During ``settle`` the commands ease (smoothstep) from the model's build pose into
+    the outgoing gait ``p_from``'s pose at phase 0 and the robot stands there; then the
+    §3.2.5 transition from ``p_from`` to ``p_to`` starts at phase 0. Without the easing
+    the first command jumps from the build pose to an arbitrary gait pose: measured on
+    the default profile (Nov 2026, seed 0), 5 of 24 robots of a first PSO generation were
+    thrown over within the 0.5 s settle, before the gait under test had started.
+    """
+    dtype = jnp.asarray(p_to).dtype
+    w = jnp.clip(jnp.asarray(t, dtype) / jnp.maximum(settle, 1e-6), 0.0, 1.0)
+    w = w * w * (3.0 - 2.0 * w)
+    build = jnp.asarray(O.build_offsets(), dtype)
+    pose0 = family.commands_at_phase(jnp.asarray(p_from), jnp.zeros((), dtype))
+    easing = build + w * (pose0 - build)
+    tau = jnp.maximum(t - settle, 0.0)
+    gait = transitions.transition_commands(family, p_from, p_to, tau, t_transition)
+    return jnp.where(t < settle, easing, gait)
+
+
 @functools.lru_cache(maxsize=32)
 def gait_command_fn(family, settle: float, t_transition: float):
     """Command function of the evaluation protocol for a gait ``family``: memory holds
-    ``p_from`` and ``p_to`` (P,) per robot (see module docstring)."""
+    ``p_from`` and ``p_to`` (P,) per robot (see :func:`protocol_commands`)."""
 
     def fn(mem, t, sens):
-        return transitions.transition_commands(family, mem["p_from"], mem["p_to"],
-                                               t - settle, t_transition)
+        return protocol_commands(family, mem["p_from"], mem["p_to"], t, settle,
+                                 t_transition)
 
     return fn
 
@@ -165,15 +187,17 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
     ``t_start`` and ``t_end`` (scalars or (B,)) bound each robot's window (``t_end``
     None: to the end of the simulation).
 
-    A robot that falls gets fitness ``-inf``: eq. 3.3 presumes a robot that walks on the
-    treadmill, and a robot lying on its side hardly moves and keeps the LED still, so
-    its eq. 3.3 value (about 0) beats every walking gait whose wobble costs more than its
-    distance gains. Measured (Nov 2026, default profile, seed 0): in the first PSO
-    generation 22 of 24 robots fell, and the best eq. 3.3 values of the sine and spline
-    swarms (-0.03 and 0.19) were robots lying on their side.
+    A robot that falls is ranked below every robot that stays up: its fitness is
+    ``FALLEN_FITNESS`` plus the fraction of the window it stayed up (so PSO still moves
+    towards gaits that fall later). Eq. 3.3 presumes a robot that walks on the treadmill;
+    a robot lying on its side hardly moves and keeps the LED still, so its eq. 3.3 value
+    (about 0) beats every walking gait whose wobble costs more than its distance gains.
+    Measured (Nov 2026, default profile, seed 0): in the first PSO generation 22 of 24
+    robots fell, and the best eq. 3.3 values of the sine and spline swarms (-0.03 and
+    0.19) were robots lying on their side. An unphysical simulation scores ``-inf``.
 
     Returns a dict of (B,) arrays: ``distance`` [m] (trunk x displacement), ``speed``
-    [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3, ``-inf`` if fallen),
+    [m/s], ``sigma_x``, ``sigma_y`` [pixels], ``fitness`` (eq. 3.3, see above if fallen),
     ``fallen`` (bool: trunk lower than ``fall_height`` [m] or tilted more than 60
     degrees, or an unphysical simulation, see :func:`exploded`) and ``exploded``.
     """
@@ -198,15 +222,22 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
         dist = tp[-1, 0] - tp[0, 0]
         span = t[w][-1] - t0[i]
         with np.errstate(invalid="ignore"):
-            fallen[i] = bad[i] or tp[:, 2].min() < fall_height or up.min() < 0.5
+            down = (tp[:, 2] < fall_height) | (up < 0.5)
+            fallen[i] = bad[i] or down.any()
         fit = dist - sx / 150.0 - sy / 300.0
-        ok = np.isfinite(fit) and not fallen[i]
+        if fallen[i]:
+            fit = FALLEN_FITNESS + (t[w][int(np.argmax(down))] - t0[i]) / span
+        ok = np.isfinite(fit) and not bad[i]
         out["distance"][i] = dist if not bad[i] else np.nan
         out["speed"][i] = out["distance"][i] / span
         out["sigma_x"][i], out["sigma_y"][i] = sx, sy
         out["fitness"][i] = fit if ok else -np.inf
     return dict(out, fallen=fallen, exploded=bad)
 
+
+#: Fitness of a robot that fell at the start of its window (eq. 3.3 of any robot that
+#: stays up is far above: distances are metres, the sigma terms at most a few units).
+FALLEN_FITNESS = -100.0
 
 #: Trunk height [m] and trunk speed [m/s] that no walking 5 kg robot reaches: above
 #: them the simulation has gone unphysical (engine blow-up, see the ch3 report).
