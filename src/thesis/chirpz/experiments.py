@@ -177,6 +177,7 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "batch_size": int(cfg["train"]["batch_size"]),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
+        "loc_lr_scale": float(cfg["train"].get("loc_lr_scale", 1.0)),
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
@@ -206,7 +207,8 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
     keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
                                            "digit_source", "max_epochs", "patience",
                                            "batch_size", "optimizer", "learning_rate",
-                                           "chirpz_output", "none_shared_across_d")}
+                                           "loc_lr_scale", "chirpz_output",
+                                           "none_shared_across_d")}
     for p in parts:
         p.attrs = {}
     ds = xr.concat(parts, dim="model")

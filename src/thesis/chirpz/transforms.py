@@ -43,6 +43,7 @@ __all__ = [
     "bilinear_sample",
     "no_skew_to_affine",
     "get_transform",
+    "inside_fraction",
 ]
 
 
@@ -163,6 +164,33 @@ TRANSFORMS: dict[str, Transform] = {
     "chirp_z": Transform("chirp_z", 4, (0.0, 1.0, 0.0, 0.0), _chirp_z),
     "none": Transform("none", 0, (), _none, downsamples=False),
 }
+
+
+def inside_fraction(transform: Transform, params: Array, n: int, m: int) -> Array:
+    """Fraction of the M x M output grid whose source point lies on the N x N canvas.
+
+    A diagnostic of the localisation network (§2.5): bilinear samples outside the canvas
+    read zero, so a transform whose grid has left the canvas yields an empty image and
+    zero gradients for the localisation network. For ``chirp_z`` the same sample points
+    are used (the layer itself is periodic, so points outside wrap around instead).
+
+    Args:
+        transform: a layer with parameters (not ``none``).
+        params: (B, P) transform parameters.
+        n: input side N; m: output side M.
+
+    Returns:
+        (B,) fraction in [0, 1].
+    """
+    if transform.n_params == 6:
+        theta = params.reshape(-1, 2, 3)
+    elif transform.n_params == 4:
+        theta = no_skew_to_affine(params)
+    else:
+        raise ValueError(f"transform {transform.name!r} has no sampling grid")
+    x, y = affine_grid(theta, n, m)
+    inside = (x >= 0) & (x <= n - 1) & (y >= 0) & (y <= n - 1)
+    return jnp.mean(inside.astype(params.dtype), axis=(1, 2))
 
 
 def get_transform(name: str, chirpz_output: str = "abs") -> Transform:

@@ -1,0 +1,87 @@
+"""Training of the spatial transformer networks (thesis §2.5) with the default recipe.
+
+The default profile trains at Adam 3e-3 with the localisation network's updates scaled by
+``train.loc_lr_scale``; with one rate for every layer the transform left the canvas
+within ~100 steps and the networks stayed at chance (chirpz.train docstring).
+"""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from thesis.chirpz.nets import NetSpec, apply_net, init_net
+from thesis.chirpz.train import localisation_labels, make_optimizer, train
+from thesis.chirpz.transforms import get_transform, inside_fraction
+from thesis.config import load_config
+
+CANVAS = 84
+
+
+def _bars(n, seed):
+    """Three fixed-position bright bars whose row encodes the label (learnable fast)."""
+    rng = np.random.default_rng(seed)
+    y = rng.integers(0, 10, (n, 3))
+    x = np.zeros((n, CANVAS, CANVAS), np.float32)
+    for s in range(n):
+        for i in range(3):
+            x[s, 4 + 7 * y[s, i] : 10 + 7 * y[s, i], 28 * i + 4 : 28 * i + 24] = 1.0
+    return x, y.astype(np.int32)
+
+
+def _default_ch2():
+    return load_config("default")["ch2"]
+
+
+def _spec(cfg, model, transform, d=2):
+    w = cfg[model]
+    return NetSpec(model=model, transform=get_transform(transform), canvas=CANVAS, d=d,
+                   n_digits=3, loc_filters=w["loc_filters"], loc_dense=w.get("loc_dense", 0),
+                   gru_units=w.get("gru_units", 0), cls_filters=w["cls_filters"],
+                   cls_dense=w["cls_dense"])
+
+
+@pytest.mark.parametrize("model", ["ffn_spn", "rnn_spn"])
+def test_labels_split_localisation_from_classifier(model):
+    cfg = _default_ch2()
+    lab = localisation_labels(init_net(jax.random.key(0), _spec(cfg, model, "chirp_z")))
+    assert {k for k, v in lab.items() if v == "loc"} == (
+        {"loc_conv", "loc_dense", "loc_out"} if model == "ffn_spn" else {"loc_conv", "gru", "loc_out"})
+    none = localisation_labels(init_net(jax.random.key(0), _spec(cfg, model, "none")))
+    assert set(none.values()) == {"rest"}  # no localisation network, GRU is the classifier's
+
+
+def test_loc_lr_scale_scales_only_localisation_updates():
+    spec = _spec(_default_ch2(), "ffn_spn", "bilinear_no_skew")
+    params = init_net(jax.random.key(0), spec)
+    grads = jax.tree_util.tree_map(lambda p: jnp.full_like(p, 0.01), params)
+    base = dict(optimizer="adam", learning_rate=1e-3, clip_value=1.0, clip_norm=5.0)
+    up = {}
+    for s in (1.0, 0.1):
+        opt = make_optimizer(dict(base, loc_lr_scale=s))
+        with jax.numpy_dtype_promotion("standard"):
+            up[s], _ = opt.update(grads, opt.init(params), params)
+    for k in params:
+        ratio = 0.1 if k.startswith("loc_") else 1.0
+        for a, b in zip(jax.tree_util.tree_leaves(up[0.1][k]), jax.tree_util.tree_leaves(up[1.0][k])):
+            np.testing.assert_allclose(a, ratio * b, rtol=1e-5, atol=1e-12)
+            assert np.any(b != 0)
+
+
+def test_default_recipe_learns_and_keeps_transform_on_canvas():
+    """With the default profile's optimiser, rate, batch and localisation scale, a short
+    training of FFN-SPN (bilinear_no_skew, d = 2) learns a task that needs the image to
+    reach the classifier, and the best-validation transform still samples the canvas.
+
+    This fails if the default recipe leaves the networks at chance. On this easy task it
+    also passed with ``loc_lr_scale = 1.0`` (checked by hand): the escape from the canvas
+    is stochastic, so the scaling itself is pinned by the exact unit test above."""
+    cfg = _default_ch2()
+    spec = _spec(cfg, "ffn_spn", "bilinear_no_skew")
+    data = {"train": _bars(200, 0), "valid": _bars(50, 1), "test": _bars(25, 2)}
+    tcfg = dict(cfg["train"], max_epochs=8, patience=8)
+    r = train(spec, data, tcfg, jax.random.key(0), np.random.default_rng(0))
+    assert r.valid_error.min() < 0.5  # chance is 0.9
+    _, theta = apply_net(r.params, spec, jnp.asarray(data["valid"][0]), return_params=True)
+    inside = inside_fraction(spec.transform, theta, CANVAS, spec.out_size)
+    assert float(jnp.mean(inside)) > 0.8
