@@ -38,7 +38,8 @@ from thesis.physics.math import safe_norm
 from thesis.physics.models import arm4
 from thesis.physics.models.arm4 import THESIS_SERVO_TORQUE
 
-__all__ = ["build", "servo_attrs", "episode_fn", "sample_targets", "arm_fixed", "arm_random", "cm_name"]
+__all__ = ["build", "servo_attrs", "episode_fn", "sample_targets", "arm_fixed", "arm_random",
+           "cm_name"]
 
 EFFECTOR = "sphere2"
 
