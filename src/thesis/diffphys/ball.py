@@ -41,8 +41,8 @@ right: AD equals central differences to 5 digits in all six components
   §2.10: with the quirk inertia and w_y = -4.686 in our sign convention it ends with
   velocity error 0.008, position error 0.58 m here), and at a fixed landing time a
   resting solution needs ``v_x ~ 10 / t_land`` and a backspin of ``-m r v_x / I``, tens
-  of units away while the schedule's steps are 0.01 after iteration 100. The quirk inertia (FACTS §2.3) stalls
-  the same way (seed 0: velocity error 3.97 after 200 iterations).
+  of units away while the schedule's steps are 0.01 after iteration 100. The quirk
+  inertia (FACTS §2.3) stalls the same way (seed 0: velocity error 3.97 after 200 iterations).
 """
 
 from __future__ import annotations
