@@ -18,6 +18,31 @@ both errors are below their tolerances (0.01 m and 0.01 m/s) or the budget is sp
 
 Wall times exclude compilation (each jitted function is compiled once before the clock
 starts; compile times are stored as attributes).
+
+Why gradient descent can stall here (measured, float64, Nov 2026). From seed 0 Adam
+ends at v0 ~ (3.09, -0.33, -2.05), w0 ~ (-1.77, -1.93, 0): the ball is at the target
+(position error < 0.03 m) but rolls at 1.93 m/s (velocity error 4.3). The gradient is
+right: AD equals central differences to 5 digits in all six components
+(``tests/diffphys/test_ball.py``). The landscape is the obstacle:
+
+* once the ball rolls, its speed is fixed by the angular momentum about the contact line,
+  ``(m r v_x + I w_y) / (m r + I / r)``, which no later contact changes, so the velocity
+  error depends on (v_x, w_y) only; to rest, the ball must land with that momentum zero;
+* with mu = 1 the landing impulse removes the slip in one step, after which the horizontal
+  motion no longer depends on the vertical one, and the landing time is an integer
+  number of steps: the derivative w.r.t. the throw's vertical speed v_z is exactly 0
+  (AD and differences with eps 1e-7 ... 1e-1 agree on the velocity error). The
+  continuous-time sensitivity of the final position, ``(v_x - v_roll) dt_land/dv_z``
+  (0.069 m per m/s there; the secant of p_x(T) over v_z +- 0.5, landing steps 25-31, is
+  0.067, the AD derivative 0), is lost by time stepping without a time-of-impact
+  correction (the DiffTaichi observation, Hu et al. 2020);
+* so from a downward throw the gradient cannot raise the throw (the high-throw solutions
+  CMA-ES finds, like the original's ``velocity2`` = (3.74, 0, 12, 0, 4.686, 0), FACTS
+  §2.10: with the quirk inertia and w_y = -4.686 in our sign convention it ends with
+  velocity error 0.008, position error 0.58 m here), and at a fixed landing time a
+  resting solution needs ``v_x ~ 10 / t_land`` and a backspin of ``-m r v_x / I``, tens
+  of units away while the schedule's steps are 0.01 after iteration 100. The quirk
+  inertia (FACTS §2.3) stalls the same way (seed 0: velocity error 3.97 after 200 iterations).
 """
 
 from __future__ import annotations
