@@ -118,7 +118,7 @@ def protocol_commands(family, p_from, p_to, t, settle, t_transition):
     """
     dtype = jnp.asarray(p_to).dtype
     w = jnp.clip(jnp.asarray(t, dtype) / jnp.maximum(settle, 1e-6), 0.0, 1.0)
-    w = w * w * (3.0 - 2.0 * w)
+    w = transitions.smoothstep(w)
     build = jnp.asarray(O.build_offsets(), dtype)
     pose0 = family.commands_at_phase(jnp.asarray(p_from), jnp.zeros((), dtype))
     easing = build + w * (pose0 - build)

@@ -20,7 +20,9 @@ from __future__ import annotations
 import jax.numpy as jnp
 
 
-def _smoothstep(w):
+def smoothstep(w):
+    """S(w) = 3w² - 2w³ for w in [0, 1] (the §3.2.5 blend; also the settle easing of
+    :func:`thesis.gaits.runner.protocol_commands`)."""
     return w * w * (3.0 - 2.0 * w)
 
 
@@ -51,7 +53,7 @@ def transition_state(family, p_from, p_to, tau, duration, phase0=0.0):
     tau = jnp.maximum(tau_raw, 0.0)
     w = jnp.clip(tau / duration, 0.0, 1.0)
     params = (1.0 - w) * p_from + w * p_to
-    params = params.at[i].set(f0 + (f1 - f0) * _smoothstep(w))
+    params = params.at[i].set(f0 + (f1 - f0) * smoothstep(w))
     phase_in = f0 * jnp.minimum(tau, duration) + (f1 - f0) * duration * _smoothstep_integral(w)
     phase = phase0 + phase_in + f1 * jnp.maximum(tau - duration, 0.0)
     phase = phase + f0 * jnp.minimum(tau_raw, 0.0)  # before the start: gait p_from runs
