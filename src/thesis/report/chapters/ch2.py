@@ -67,7 +67,8 @@ def tables(results: dict) -> list[Table]:
                 f"{a.get('n_test')} test sequences, at most {a.get('max_epochs')} epochs "
                 f"(patience {a.get('patience')}), batch {a.get('batch_size')}, "
                 f"{a.get('optimizer')} lr {a.get('learning_rate')}; widths {a.get('widths')}; "
-                f"digits: {a.get('digit_source')}. 'no spatial' has no down-sampling and is "
+                f"digits: {a.get('digit_source')}; d run: {[int(d) for d in ds['d'].values]} "
+                "(other rows: not run). 'no spatial' has no down-sampling and is "
                 "trained once per model and seed, shown in every d row (thesis: ditto marks).")
     return [Table(id="table2_2", title="Per-digit test error on cluttered MNIST sequences",
                   thesis_ref="Tab. 2.2", columns=columns, rows=rows, note=note)]
