@@ -68,6 +68,28 @@ def test_loc_lr_scale_scales_only_localisation_updates():
             assert np.any(b != 0)
 
 
+def test_warmup_ramps_every_update_linearly_then_stops():
+    spec = _spec(_default_ch2(), "ffn_spn", "bilinear_no_skew")
+    params = init_net(jax.random.key(0), spec)
+    grads = jax.tree_util.tree_map(lambda p: jnp.full_like(p, 0.01), params)
+    base = dict(optimizer="rmsprop", learning_rate=1e-3, clip_value=1.0, clip_norm=5.0)
+    leaf = lambda u: np.asarray(u["cls_out"]["w"])  # noqa: E731
+
+    def updates(warmup, n):
+        opt = make_optimizer(dict(base, warmup_steps=warmup))
+        st, out = opt.init(params), []
+        for _ in range(n):
+            with jax.numpy_dtype_promotion("standard"):
+                u, st = opt.update(grads, st, params)
+            out.append(leaf(u))
+        return out
+
+    plain, warm = updates(0, 6), updates(3, 6)
+    for i, expected in enumerate([0.25, 0.5, 0.75, 1.0, 1.0, 1.0]):  # (i + 1) / (3 + 1)
+        np.testing.assert_allclose(warm[i], expected * plain[i], rtol=1e-5)
+    assert np.all(plain[0] != 0)
+
+
 def test_default_recipe_learns_and_keeps_transform_on_canvas():
     """With the default profile's optimiser, rate, batch and localisation scale, a short
     training of FFN-SPN (bilinear_no_skew, d = 2) learns a task that needs the image to

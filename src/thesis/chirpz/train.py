@@ -76,7 +76,8 @@ def localisation_labels(params: dict) -> dict:
 def make_optimizer(cfg: dict):
     """optax chain (§2.5, FACTS §3.2): per-element clip, global-norm clip, RMSprop/Adam with
     an injectable learning rate, then the localisation updates scaled by
-    ``cfg["loc_lr_scale"]`` (default 1.0: one rate for all layers, as the thesis).
+    ``cfg["loc_lr_scale"]`` (default 1.0: one rate for all layers, as the thesis), then a
+    linear warm-up of every update over ``cfg["warmup_steps"]`` steps (default 0: none).
 
     The learning-rate state is element 2 of the chain (``opt_state[2].hyperparams``).
     """
@@ -90,8 +91,11 @@ def make_optimizer(cfg: dict):
         raise ValueError(f"unknown optimizer {cfg['optimizer']!r}")
     loc_scale = optax.multi_transform(
         {"loc": optax.scale(scale), "rest": optax.identity()}, localisation_labels)
+    warmup = int(cfg.get("warmup_steps", 0))
+    ramp = optax.scale_by_schedule(optax.linear_schedule(1.0 / (warmup + 1), 1.0, warmup)) \
+        if warmup else optax.identity()
     return optax.chain(optax.clip(cfg["clip_value"]), optax.clip_by_global_norm(cfg["clip_norm"]),
-                       opt, loc_scale)
+                       opt, loc_scale, ramp)
 
 
 def _loss(params, spec, x, y, key):
@@ -143,7 +147,8 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     params = init_net(k_init, spec)
     n_params = int(sum(v.size for v in jax.tree_util.tree_leaves(params)))
     opt_cfg = {k: cfg[k] for k in ("optimizer", "learning_rate", "clip_value", "clip_norm")}
-    opt_cfg["loc_lr_scale"] = float(cfg.get("loc_lr_scale", 1.0))  # schema default
+    opt_cfg["loc_lr_scale"] = float(cfg.get("loc_lr_scale", 1.0))  # schema defaults
+    opt_cfg["warmup_steps"] = int(cfg.get("warmup_steps", 0))
     optimizer, train_step, errors = _make_steps(spec, tuple(opt_cfg.items()))
     opt_state = optimizer.init(params)
     xtr, ytr = data["train"]
