@@ -1,6 +1,7 @@
 """End-to-end tests of the registered ch2 experiments on tiny configurations."""
 
 import copy
+import json
 import logging
 
 import h5py
@@ -21,7 +22,8 @@ def tiny(tmp_path_factory):
     c["seeds"] = [0, 1]
     c["data"].update(canvas=84, n_train=12, n_valid=6, n_test=6)
     c["grid"] = {"downsample": [2, 3], "transforms": ["chirp_z", "none"]}
-    c["train"].update(batch_size=6, max_epochs=2, patience=2)
+    c["train"].update(batch_size=6, max_epochs=2, patience=2, loc_lr_scale=1.0)
+    c["rnn_spn"]["loc_lr_scale"] = 0.5  # RNN-SPN's own localisation rate
     c["bench"] = {"sizes": [16, 24, 32], "batch": 1, "repeats": 2}
     tmp = tmp_path_factory.mktemp("ch2")
 
@@ -61,11 +63,23 @@ def test_table2_2_parts_and_join(tiny):
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]
     assert joined.attrs["thesis_ref"] == "Tab. 2.2"
     assert joined.attrs["n_train"] == 12 and joined.attrs["max_epochs"] == 2
+    assert json.loads(joined.attrs["loc_lr_scale"]) == {"ffn_spn": 1.0, "rnn_spn": 0.5}
     for name, var in joined.data_vars.items():
         assert "units" in var.attrs and "long_name" in var.attrs, name
     assert joined["test_error"].attrs["units"] == "1"
     assert joined["valid_error"].dims[-1] == "epoch"
     assert np.isfinite(joined["valid_error"].isel(epoch=0)).all()
+
+
+def test_model_loc_lr_scale_overrides_train():
+    from thesis.chirpz.experiments import _train_cfg
+
+    cfg = load_config("default")["ch2"]
+    assert "loc_lr_scale" not in cfg["ffn_spn"]  # only RNN-SPN has its own rate
+    cfg["rnn_spn"]["loc_lr_scale"] = 0.7
+    assert _train_cfg(cfg, "rnn_spn")["loc_lr_scale"] == 0.7
+    assert _train_cfg(cfg, "ffn_spn")["loc_lr_scale"] == cfg["train"]["loc_lr_scale"]
+    assert _train_cfg(cfg, "rnn_spn")["learning_rate"] == cfg["train"]["learning_rate"]
 
 
 def test_scaling_benchmark(tiny):

@@ -124,7 +124,8 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 def diverged(step, _seed=seed):
                     raise SimulationDiverged(f"ch2/table2_2/{model}", _seed, step, "loss")
 
-                r = train(spec, data, cfg["train"], key, rng, log=ctx.log, on_nan=diverged)
+                r = train(spec, data, _train_cfg(cfg, model), key, rng, log=ctx.log,
+                          on_nan=diverged)
                 ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
                              model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
                 test[di, ti, si] = r.test_error
@@ -163,6 +164,12 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     return ds
 
 
+def _train_cfg(cfg: dict, model: str) -> dict:
+    """The ``ch2.train`` section with the model's own ``loc_lr_scale`` where it sets one."""
+    own = cfg[model].get("loc_lr_scale")
+    return cfg["train"] if own is None else {**cfg["train"], "loc_lr_scale": float(own)}
+
+
 def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
     return {
         "thesis_ref": "Tab. 2.2",
@@ -177,7 +184,8 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "batch_size": int(cfg["train"]["batch_size"]),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
-        "loc_lr_scale": float(cfg["train"].get("loc_lr_scale", 1.0)),
+        "loc_lr_scale": json.dumps({m: float(_train_cfg(cfg, m).get("loc_lr_scale", 1.0))
+                                    for m in ([model] if model else MODELS)}, sort_keys=True),
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
@@ -207,7 +215,7 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
     keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
                                            "digit_source", "max_epochs", "patience",
                                            "batch_size", "optimizer", "learning_rate",
-                                           "loc_lr_scale", "chirpz_output",
+                                           "chirpz_output",
                                            "none_shared_across_d")}
     for p in parts:
         p.attrs = {}
@@ -216,6 +224,7 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
     ds.attrs["thesis_ref"] = "Tab. 2.2"
     ds.attrs["seeds"] = [int(s) for s in ctx.config["seeds"]]
     ds.attrs["widths"] = json.dumps({m: ctx.config[m] for m in MODELS}, sort_keys=True)
+    ds.attrs["loc_lr_scale"] = _size_attrs(ctx.config, {})["loc_lr_scale"]
     return ds
 
 
