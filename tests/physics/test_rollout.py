@@ -44,6 +44,27 @@ def test_gradient_decay_is_identity_forward_and_scales_backward(x64):
     np.testing.assert_allclose(g(1.0, alpha), alpha ** n, rtol=1e-12)
 
 
+def test_warm_start_grad_cuts_only_the_initial_guess_path():
+    m, s = arm4()
+    n = 20
+
+    def final(imp, p, wsg):
+        j, r = imp
+        s0 = s.replace(joint_impulse=j, row_impulse=r)
+        fin, _ = rollout(m, s0, _ctrl, p, n, warm_start_grad=wsg, record=())
+        return jnp.sum(fin.pos) + jnp.sum(fin.vel)
+
+    imp0 = (s.joint_impulse + 0.1, s.row_impulse + 0.1)
+    f = jax.jit(final, static_argnums=2)
+    g = jax.jit(jax.grad(final, argnums=(0, 1)), static_argnums=2)
+    np.testing.assert_array_equal(f(imp0, 0.3, 0.0), f(imp0, 0.3, 1.0))  # forward unchanged
+    (gi1, gp1), (gi0, gp0) = g(imp0, 0.3, 1.0), g(imp0, 0.3, 0.0)
+    # the last step's impulses reach the future only as the solver's initial guess
+    assert max(float(jnp.abs(x).max()) for x in jax.tree.leaves(gi1)) > 1e-6
+    assert all(float(jnp.abs(x).max()) == 0.0 for x in jax.tree.leaves(gi0))
+    assert np.isfinite(float(gp0)) and abs(float(gp0)) > 1e-6 and float(gp0) != float(gp1)
+
+
 def test_remat_gives_the_same_gradient():
     m, s = ball(height=0.5, friction=0.2)
     none = lambda p, sens, mem, t: (jnp.zeros((0,)), mem)  # noqa: E731

@@ -146,7 +146,7 @@ def initial_states(state0, batch: int, key, velocity_std: float):
 
 
 def distance_fn(model, controller, n_steps: int, n_memory: int, *, grad_decay: float,
-                remat: bool):
+                remat: bool, warm_start_grad: float = 1.0):
     """``f(weights, state0) -> distance travelled by the torso along x`` [m] (one robot)."""
     from thesis.physics import rollout
 
@@ -155,7 +155,8 @@ def distance_fn(model, controller, n_steps: int, n_memory: int, *, grad_decay: f
     def f(weights, state0):
         mem0 = jnp.zeros((n_memory,), state0.pos.dtype)
         final, _ = rollout(model, state0, controller, weights, n_steps, memory0=mem0,
-                           grad_decay=grad_decay, remat=remat, record=())
+                           grad_decay=grad_decay, warm_start_grad=warm_start_grad,
+                           remat=remat, record=())
         return final.pos[root, 0] - state0.pos[root, 0]
 
     return f
@@ -299,7 +300,7 @@ def table7_1(ctx):
     key = _key(ctx)
     k_w, k_s = jax.random.split(key)
     dist = distance_fn(model, controller, n_steps, n_mem, grad_decay=float(cfg["grad_decay"]),
-                       remat=bool(cfg["remat"]))
+                       remat=bool(cfg["remat"]), warm_start_grad=float(cfg["warm_start_grad"]))
 
     def run_cell(devices, batch, size, gradient):
         fn, rep, shard, n_dev = build_bench_fn(dist, devices, batch, gradient)
@@ -324,7 +325,8 @@ def table7_1(ctx):
     ds.attrs.update(
         thesis_ref="Tab. 7.1", seeds=[0], model=model.name, dt=dt, n_steps=n_steps,
         simulated_seconds=n_steps * dt, solver_iterations=int(model.solver_iterations),
-        grad_decay=float(cfg["grad_decay"]), grad_clip="none (raw Jacobian, no clipping)",
+        grad_decay=float(cfg["grad_decay"]), warm_start_grad=float(cfg["warm_start_grad"]),
+        grad_clip="none (raw Jacobian, no clipping)",
         remat=int(bool(cfg["remat"])), repeats=int(cfg["repeats"]),
         controller="bias-free MLP, inputs = sensors + memory, ReLU hidden, outputs = "
                    "servo targets + tanh memory",

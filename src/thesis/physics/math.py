@@ -9,6 +9,7 @@ world coordinates); the original engine stored the transpose (FACTS §2.3).
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -23,6 +24,7 @@ __all__ = [
     "inv_spd",
     "inv3",
     "rodrigues",
+    "decay_gradient",
 ]
 
 
@@ -174,3 +176,15 @@ def rodrigues(phi):
     k = skew(phi)
     eye = jnp.broadcast_to(jnp.eye(3, dtype=phi.dtype), k.shape)
     return eye + a[..., None, None] * k + b[..., None, None] * mm(k, k)
+
+
+def decay_gradient(tree, alpha):
+    """Identity forward; multiplies the cotangent of every float leaf of ``tree`` by
+    ``alpha`` (``alpha x + (1 - alpha) stop_gradient(x)``; the original's ``MulGrad``, §7.3.2).
+    ``alpha`` = 0 cuts the gradient, 1 leaves it exact."""
+    def f(x):
+        if not jnp.issubdtype(jnp.result_type(x), jnp.floating):
+            return x
+        a = jnp.asarray(alpha, x.dtype)
+        return a * x + (1 - a) * jax.lax.stop_gradient(x)
+    return jax.tree.map(f, tree)

@@ -9,6 +9,8 @@ Two tricks of §7.3.2 / FACTS §2.11 are built in:
 * ``grad_decay`` = alpha < 1: identity in the forward pass, but the gradient flowing back
   through each time step's state is multiplied by alpha (the original's ``MulGrad``),
   implemented as ``alpha x + (1 - alpha) stop_gradient(x)``;
+* ``warm_start_grad`` < 1 scales the gradient through the solver's warm start only
+  (forward unchanged; :func:`thesis.physics.step`);
 * ``remat=True``: ``jax.checkpoint`` on the scan body, so the backward pass stores one
   state per step instead of every intermediate of the solver (memory O(steps * state)).
 
@@ -25,6 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, PartitionSpec as P
 
+from thesis.physics.math import decay_gradient
 from thesis.physics.sensors import sensors as all_sensors
 from thesis.physics.step import step
 from thesis.physics.types import Model, State
@@ -32,18 +35,9 @@ from thesis.physics.types import Model, State
 __all__ = ["rollout", "batched_rollout", "decay_gradient"]
 
 
-def decay_gradient(tree, alpha):
-    """Identity forward; multiplies the cotangent of every float leaf by ``alpha``."""
-    def f(x):
-        if not jnp.issubdtype(jnp.result_type(x), jnp.floating):
-            return x
-        a = jnp.asarray(alpha, x.dtype)
-        return a * x + (1 - a) * jax.lax.stop_gradient(x)
-    return jax.tree.map(f, tree)
-
-
 def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
-            memory0=None, grad_decay=1.0, remat=False, record=("body_pos",)):
+            memory0=None, grad_decay=1.0, warm_start_grad=1.0, remat=False,
+            record=("body_pos",)):
     """Simulate ``n_steps`` steps under a closed-loop controller.
 
     Args:
@@ -55,6 +49,8 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
         n_steps: static number of steps.
         memory0: initial controller memory (any pytree; None allowed).
         grad_decay: per-step gradient decay alpha (1.0: exact BPTT), thesis §7.3.2.
+        warm_start_grad: fraction of the gradient that flows through the solver's warm
+            start (see :func:`thesis.physics.step`; 1.0: exact).
         remat: checkpoint the scan body (less memory for long gradients).
         record: names of sensors (see ``sensors``) and/or ``"action"`` to record.
     Returns:
@@ -66,7 +62,7 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
     def body(carry, _):
         s, mem = carry
         action, mem = controller(params, all_sensors(model, s), mem, s.time)
-        s = step(model, s, action)
+        s = step(model, s, action, warm_start_grad=warm_start_grad)
         if not (isinstance(grad_decay, (int, float)) and grad_decay == 1.0):
             s = decay_gradient(s, grad_decay)
         sens = all_sensors(model, s)  # only the recorded entries survive compilation
