@@ -102,6 +102,9 @@ def test_default_recipe_learns_and_keeps_transform_on_canvas():
     spec = _spec(cfg, "ffn_spn", "bilinear_no_skew")
     data = {"train": _bars(200, 0), "valid": _bars(50, 1), "test": _bars(25, 2)}
     tcfg = dict(cfg["train"], max_epochs=8, patience=8)
+    # the warm-up is the same fraction of this 64-step run as of the default run
+    default_steps = cfg["data"]["n_train"] // cfg["train"]["batch_size"] * cfg["train"]["max_epochs"]
+    tcfg["warmup_steps"] = round(cfg["train"].get("warmup_steps", 0) * 64 / default_steps)
     r = train(spec, data, tcfg, jax.random.key(0), np.random.default_rng(0))
     assert r.valid_error.min() < 0.5  # chance is 0.9
     _, theta = apply_net(r.params, spec, jnp.asarray(data["valid"][0]), return_params=True)

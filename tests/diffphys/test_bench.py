@@ -147,7 +147,8 @@ def test_servo_ctrl_is_the_engine_servo_law():
 def test_dataset_layout_on_a_tiny_run():
     cfg = {"root_seed": 3, "jax": {}, "physics": {"bench": dict(
         batches=[1, 2], hidden_layers=[[4]], memory_units=8, simulated_seconds=0.02,
-        repeats=1, grad_decay=0.9, remat=False, output_gain=0.1, initial_velocity_std=0.05,
+        repeats=1, grad_decay=0.9, warm_start_grad=1.0, remat=False, output_gain=0.1,
+        initial_velocity_std=0.05,
         gpu=False)}}
     ctx = RunContext(key="ch7/table7_1", profile="smoke", config={}, full_config=cfg,
                      log=logging.getLogger("test"))
