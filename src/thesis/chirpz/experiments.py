@@ -170,6 +170,12 @@ def _train_cfg(cfg: dict, model: str) -> dict:
     return cfg["train"] if own is None else {**cfg["train"], "loc_lr_scale": float(own)}
 
 
+def _loc_scales(cfg: dict, models) -> str:
+    """JSON ``{model: effective loc_lr_scale}`` for the dataset attributes."""
+    return json.dumps({m: float(_train_cfg(cfg, m).get("loc_lr_scale", 1.0)) for m in models},
+                      sort_keys=True)
+
+
 def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
     return {
         "thesis_ref": "Tab. 2.2",
@@ -184,8 +190,7 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "batch_size": int(cfg["train"]["batch_size"]),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
-        "loc_lr_scale": json.dumps({m: float(_train_cfg(cfg, m).get("loc_lr_scale", 1.0))
-                                    for m in ([model] if model else MODELS)}, sort_keys=True),
+        "loc_lr_scale": _loc_scales(cfg, [model] if model else MODELS),
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
@@ -224,7 +229,7 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
     ds.attrs["thesis_ref"] = "Tab. 2.2"
     ds.attrs["seeds"] = [int(s) for s in ctx.config["seeds"]]
     ds.attrs["widths"] = json.dumps({m: ctx.config[m] for m in MODELS}, sort_keys=True)
-    ds.attrs["loc_lr_scale"] = _size_attrs(ctx.config, {})["loc_lr_scale"]
+    ds.attrs["loc_lr_scale"] = _loc_scales(ctx.config, MODELS)
     return ds
 
 
