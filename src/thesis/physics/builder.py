@@ -90,6 +90,8 @@ class Builder:
         reortho_iterations: eq. 7.1 steps per time step.
         restitution_threshold: [m/s] (None: 2 |g| dt). contact_slop: [m] penetration
             left uncorrected (the original's ground ``delta``, FACTS §2.6).
+        toi_correction: correct positions for the time of impact of sphere-plane contacts
+            (``step.toi_correction``); off by default, as in the original engine.
         friction, restitution, contact_hz, contact_zeta: the "default" material.
     """
 
@@ -97,7 +99,7 @@ class Builder:
                  warm_start=0.85, relaxation=0.5, joint_hz=None, joint_zeta=1.0,
                  limit_hz=None, limit_zeta=1.0, reortho_iterations=1,
                  restitution_threshold=None, contact_slop=0.0, friction=0.5,
-                 restitution=0.0, contact_hz=None, contact_zeta=1.0):
+                 restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False):
         self.name = name
         self.dt = float(dt)
         self.solver_iterations = int(solver_iterations)
@@ -113,6 +115,7 @@ class Builder:
         self.restitution_threshold = (2.0 * g * self.dt if restitution_threshold is None
                                       else float(restitution_threshold))
         self.contact_slop = float(contact_slop)
+        self.toi_correction = bool(toi_correction)
         self.bodies, self.joints, self.servos, self.springs, self.jsprings = [], [], [], [], []
         self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
         self.geoms, self.cameras, self.textures = [], [], []

@@ -100,7 +100,7 @@ def build_model(b, dtype):
         csphere_body=ints([fix(s["body"]) for s in b.cspheres]),
         pair_sphere=ints(pairs_s), pair_other=ints(pairs_o),
         pair_is_sphere=np.asarray(pairs_is, bool).reshape(-1), pair_material=ints(pairs_m),
-        torsional=bool(torsional),
+        torsional=bool(torsional), toi_correction=bool(b.toi_correction),
         material_names=tuple(m["name"] for m in b.materials),
         plane_names=tuple(p["name"] for p in b.planes),
         geom_type=ints([int(g["type"]) for g in G]),

@@ -139,6 +139,8 @@ class Model(_Replace):
         pair_sphere (n_pair,) contact sphere, pair_other (n_pair,) plane index or second
         contact sphere, pair_is_sphere (n_pair,) bool, pair_material (n_pair,) material.
         torsional: whether contacts carry a torsional-friction row.
+        toi_correction: whether a body's position is corrected for the time of impact of
+            its sphere-plane contacts (``step.toi_correction``; off by default).
         material_names, plane_names.
         geom_type (G,) GeomType, geom_body (G,) (-1 world), geom_texture (G,) (-1 none).
         camera_names, camera_body (C,) (-1 world), camera_pixels ((px_w, px_h), ...).
@@ -177,7 +179,7 @@ class Model(_Replace):
         "servo_names", "servo_dof", "servo_kind", "limit_dof", "jspring_dof",
         "spring_names", "spring_body1", "spring_body2",
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
-        "torsional", "material_names", "plane_names",
+        "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels",
     )
@@ -210,6 +212,7 @@ class Model(_Replace):
     pair_is_sphere: np.ndarray
     pair_material: np.ndarray
     torsional: bool
+    toi_correction: bool
     material_names: tuple
     plane_names: tuple
     geom_type: np.ndarray

@@ -18,17 +18,19 @@ from thesis.physics.builder import Builder
 def ball(*, dt=0.01, solver_iterations=1, radius=0.5, height=1.5, friction=1.0,
          restitution=0.5, warm_start=0.85, velocity=(0.0, 0.0, 0.0),
          angular_velocity=(0.0, 0.0, 0.0), inertia="solid", gravity=(0.0, 0.0, -9.81),
-         contact_hz=None, contact_zeta=1.0, dtype=jnp.float32):
+         contact_hz=None, contact_zeta=1.0, toi_correction=False, dtype=jnp.float32):
     """Ball on a ground plane; returns ``(Model, State)``.
 
     Args (defaults cited in the module docstring): dt [s]; solver_iterations; radius [m]
     (§7.2.1: 1 m diameter); height of the centre [m] (ball.json); friction, restitution
     (§7.2.1); warm_start; initial velocity [m/s] and angular velocity [rad/s];
-    inertia "solid" or "tpx_quirk" (FACTS §2.3); gravity; contact softness; dtype.
+    inertia "solid" or "tpx_quirk" (FACTS §2.3); gravity; contact softness;
+    toi_correction: time-of-impact position correction (``physics.step.toi_correction``;
+    not in the original engine); dtype.
     """
     # a single body: its contact rows are decoupled, so no under-relaxation is needed
     b = Builder("ball", dt=dt, solver_iterations=solver_iterations, gravity=gravity,
-                warm_start=warm_start, relaxation=1.0)
+                warm_start=warm_start, relaxation=1.0, toi_correction=toi_correction)
     hz = 0.25 / dt if contact_hz is None else contact_hz
     b.add_material("ground", friction, restitution, hz, contact_zeta)
     b.add_plane("floor", (0, 0, 1), 0.0, "ground", color=(0.4, 0.7, 0.3))
