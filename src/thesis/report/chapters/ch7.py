@@ -121,7 +121,8 @@ def gait_table(results) -> Table:
             ["best speed seen during training [m/s]", "—", got[2]],
             ["hand-tuned trot [m/s]", _paper("quadruped_gait/hand_tuned_speed"), "—"]]
     note = "" if ds is None else _sizes(ds, ["network", "n_params", "episode_s", "dt",
-                                             "learning_rate", "grad_decay", "total_mass_kg"])
+                                             "servo_torque", "learning_rate", "grad_decay",
+                                             "total_mass_kg"])
     return Table(id="quadruped_gait", title="Quadruped gait learned through the engine",
                  thesis_ref="§7.3.3", columns=["quantity", "thesis", "reproduced"], rows=rows,
                  note=note)
