@@ -20,7 +20,8 @@ def ball(grad_iters=90.0, cma_iters=2400.0, seeds: int = 5) -> xr.Dataset:
     })
 
 
-def table7_1(grad_factor=7.0, growth=1.0, gpu=True, gpu_single=70.0, gpu_batched=1.0):
+def table7_1(grad_factor=7.0, growth=1.0, gpu=True, gpu_single=70.0, gpu_batched=1.0,
+             finite=1.0):
     devices = ["cpu", "gpu"] if gpu else ["cpu"]
     t = np.empty((len(devices), 2, 2, 2))
     for i, dev in enumerate(devices):
@@ -34,7 +35,9 @@ def table7_1(grad_factor=7.0, growth=1.0, gpu=True, gpu_single=70.0, gpu_batched
                       coords={"device": devices, "batch": [1, 128],
                               "n_params": [1296, 1147904], "gradient": [0, 1]},
                       attrs={"units": "s", "long_name": "seconds per 10 model seconds"})
-    return xr.Dataset({"seconds": da})
+    ok = xr.full_like(da, finite).assign_attrs(units="1", long_name="gradient finite")
+    ok.loc[dict(gradient=0)] = np.nan  # no gradient taken
+    return xr.Dataset({"seconds": da, "gradient_finite": ok})
 
 
 def curve(dim: str, n: int, final: float, start: float, seeds: int = 3, tau: float = 30.0,
@@ -77,6 +80,23 @@ def test_table7_1_contradicting():
     assert v.status == "not_reproduced" and v.measured["slowdown_growth_gmean"] > 2.9
     assert check("ch7.gpu_slower_for_single_robot",
                  table7_1=table7_1(gpu_single=0.1)).status == "not_reproduced"
+
+
+def test_table7_1_timings_of_a_nan_gradient_do_not_count():
+    """A table whose every gradient was NaN cannot support the cost claims, however fast;
+    a single finite configuration is enough to decide them."""
+    for cid in ("ch7.gradient_costs_small_factor",
+                "ch7.gradient_cost_nearly_independent_of_parameters"):
+        v = check(cid, table7_1=table7_1(finite=0.0))
+        assert v.status == "inconclusive" and "not finite" in v.detail
+    ds = table7_1(grad_factor=40.0)
+    ds["gradient_finite"].loc[dict(device="cpu", batch=1, n_params=1296, gradient=1)] = 0.0
+    # the contradicting timings of the other configurations still decide it
+    assert check("ch7.gradient_costs_small_factor", table7_1=ds).status == "not_reproduced"
+    ds = table7_1(grad_factor=40.0, finite=0.0)
+    ds["gradient_finite"].loc[dict(device="cpu", batch=1, n_params=1296, gradient=1)] = 1.0
+    v = check("ch7.gradient_costs_small_factor", table7_1=ds)
+    assert v.status == "not_reproduced" and v.measured["n_configurations"] == 1.0
 
 
 def test_table7_1_without_gpu():
@@ -161,7 +181,9 @@ def test_thesis_own_table7_1_satisfies_its_timing_claims():
     for e in paper.select("table7_1", "seconds"):
         da.loc[e.coord_dict()] = e.value
     assert np.isfinite(da.values).all()
-    ds = xr.Dataset({"seconds": da})
+    # the thesis's gradients were usable (it trained with them)
+    ok = xr.full_like(da, 1.0).assign_attrs(units="1", long_name="gradient finite")
+    ds = xr.Dataset({"seconds": da, "gradient_finite": ok})
     for cid in ("ch7.gradient_costs_small_factor",
                 "ch7.gradient_cost_nearly_independent_of_parameters",
                 "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",
