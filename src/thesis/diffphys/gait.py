@@ -14,8 +14,8 @@ after the last update. A strip of frames of the learned gait (first seed) is ren
 with the engine's camera from a tracking camera added to a copy of the model.
 
 Measured (default settings, seed 0, 200 evaluations, Nov 2026; for the thesis's speed
-after 500 see ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``): with the thesis's 4 N m the first updates bend the legs, the robot collapses
-onto its belly (it cannot lift 28.7 kg back up) and the speed stays at 0.045 m/s, the
+after 500 see ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``): with the
+thesis's 4 N m the first updates bend the legs, the robot collapses onto its belly (it cannot lift 28.7 kg back up) and the speed stays at 0.045 m/s, the
 0.45 m of the fall, for all 200 evaluations. The original engine's torque clip was not a
 real bound (``ch7.gait.servo_torque``); with 20 N m the robot sits on its rear legs and
 creeps (0.048 m/s), with 80 N m (20 sweeps x 4 N m, the quirk's upper bound) it turns
