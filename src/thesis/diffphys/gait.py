@@ -15,14 +15,14 @@ with the engine's camera from a tracking camera added to a copy of the model.
 
 Measured (default settings, seed 0, 200 evaluations, Nov 2026; for the thesis's speed
 after 500 see ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``): with the
-thesis's 4 N m the first updates bend the legs, the robot collapses onto its belly (it cannot lift 28.7 kg back up) and the speed stays at 0.045 m/s, the
-0.45 m of the fall, for all 200 evaluations. The original engine's torque clip was not a
-real bound (``ch7.gait.servo_torque``); with 20 N m the robot sits on its rear legs and
-creeps (0.048 m/s), with 80 N m (20 sweeps x 4 N m, the quirk's upper bound) it turns
-over and wiggles on its back (0.074 m/s, noisy between 0.03 and 0.11). At the start the
-decayed gradient (alpha 0.95) has a cosine of -0.21 with the exact one (norms 1.6 and
-43) yet is an ascent direction (directional difference +0.66); after the collapse it is
-not (-0.04).
+thesis's 4 N m the first updates bend the legs, the robot collapses onto its belly (it
+cannot lift 28.7 kg back up) and the speed stays at 0.045 m/s, the 0.45 m of the fall, for
+all 200 evaluations. The original engine's torque clip was not a real bound
+(``ch7.gait.servo_torque``); with 20 N m the robot sits on its rear legs and creeps (0.048
+m/s), with 80 N m (20 sweeps x 4 N m, the quirk's upper bound) it turns over and wiggles
+on its back (0.074 m/s, noisy between 0.03 and 0.11). At the start the decayed gradient
+(alpha 0.95) has a cosine of -0.21 with the exact one (norms 1.6 and 43) yet is an ascent
+direction (directional difference +0.66); after the collapse it is not (-0.04).
 """
 
 from __future__ import annotations
