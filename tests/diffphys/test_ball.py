@@ -38,15 +38,20 @@ def test_ball_gradient_matches_central_differences_in_flight(short_error):
     np.testing.assert_allclose(g, fd, atol=2e-2, rtol=2e-2)
 
 
+def _ball64(toi: bool):
+    """(model, state0) of the §7.2.1 ball with every float leaf in float64."""
+    model, state0 = ball.build({"dt": 0.01, "solver_iterations": 1, "toi_correction": toi})
+    return jax.tree.map(
+        lambda a: a.astype(jnp.float64) if jnp.issubdtype(a.dtype, jnp.floating) else a,
+        (model, state0))
+
+
 def test_ball_loss_gradient_matches_float64_differences_through_landing_and_rolling(x64):
     """AD gradient of the §7.2.1 loss w.r.t. all six launch parameters equals central
     finite differences in float64 through the landing (restitution, friction impulse
     converting slip into spin) and 1.2 s of rolling: the spin-to-velocity path through
     the contact is differentiated correctly (FACTS §2.6 rows, §2.11 loss)."""
-    model, state0 = ball.build({"dt": 0.01, "solver_iterations": 1, "toi_correction": False})
-    model, state0 = jax.tree.map(
-        lambda a: a.astype(jnp.float64) if jnp.issubdtype(a.dtype, jnp.floating) else a,
-        (model, state0))
+    model, state0 = _ball64(toi=False)
     err = ball.errors_fn(model, state0, 150, [10.0, 0.0])
     f = jax.jit(lambda x: sum(err(x)))
     # thrown down from 1.5 m: lands after ~0.3 s with backspin, then rolls
@@ -62,10 +67,8 @@ def test_ball_loss_gradient_matches_float64_differences_through_landing_and_roll
 
 def _final_x(toi: bool, n_steps: int = 150):
     """Final horizontal position of the ball [m] as a function of (v0, w0), float64."""
-    model, state0 = ball.build({"dt": 0.01, "solver_iterations": 1, "toi_correction": toi})
-    model, state0 = jax.tree.map(
-        lambda a: a.astype(jnp.float64) if jnp.issubdtype(a.dtype, jnp.floating) else a,
-        (model, state0))
+    model, state0 = _ball64(toi)
+
     def f(x):
         s = state0.replace(vel=x[None, :3], angvel=x[None, 3:])
         final, _ = rollout(model, s, ball._no_control, None, n_steps, record=())
