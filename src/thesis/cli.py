@@ -50,20 +50,21 @@ def _overrides(items: list[str] | None) -> dict:
     return out
 
 
-#: Chapters whose experiments run on the physics engine: its section is part of their slice.
-PHYSICS_CHAPTERS = ("ch3", "ch4", "ch5", "ch6", "ch7")
+def config_slice(config: dict, key: str) -> dict:
+    """The part of the configuration experiment ``key`` depends on (provenance, params).
 
-
-def config_slice(config: dict, chapter: str) -> dict:
-    """The part of the configuration a chapter's results depend on (hashed into params).
-
-    The chapter's section, the root seed and the JAX settings, plus the ``physics``
-    section (engine settings and the Tab. 7.1 benchmark) for chapters on the engine.
+    The root seed, the JAX settings and the subtrees :func:`thesis.registry.reads` names
+    for ``key`` (an experiment key such as ``"ch7/ball"`` or a chapter such as ``"ch3"``),
+    nested as in the configuration: ``{"root_seed", "jax", "ch7": {"ball": {...}}}``.
     """
-    out = {"root_seed": config["root_seed"], "jax": config["jax"],
-           chapter: config.get(chapter, {})}
-    if chapter in PHYSICS_CHAPTERS:
-        out["physics"] = config.get("physics", {})
+    out = {"root_seed": config["root_seed"], "jax": config["jax"]}
+    for path in registry.reads(key):
+        parts = path.split(".")
+        src, dst = config, out
+        for p in parts[:-1]:
+            src = src.get(p, {})
+            dst = dst.setdefault(p, {})
+        dst[parts[-1]] = src.get(parts[-1], {})
     return out
 
 
@@ -100,7 +101,7 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
         log.info("%s wrote %s in %.1f s", key, out, wall)
         return out
     store.write_dataset(ds, out, profile=profile, experiment=key,
-                        config_slice=config_slice(config, chapter), started=started,
+                        config_slice=config_slice(config, key), started=started,
                         wall_seconds=wall)
     log.info("%s wrote %s in %.1f s", key, out, wall)
     return out

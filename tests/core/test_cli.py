@@ -83,3 +83,21 @@ def test_unknown_experiment_and_bad_config_are_clear(fake_registry, tmp_path, ca
                      str(tmp_path / "x.nc"), "--set", "ch2.bogus=1"]) == 2
     assert "ch2.bogus" in capsys.readouterr().err
     assert not (tmp_path / "x.nc").exists()
+
+
+def test_config_slice_holds_what_the_experiment_reads():
+    from thesis.config import load_config
+
+    cfg = load_config("smoke")
+    ball = cli.config_slice(cfg, "ch7/ball")
+    assert set(ball) == {"root_seed", "jax", "ch7"}
+    assert ball["ch7"] == {"ball": cfg["ch7"]["ball"]}
+    assert cli.config_slice(cfg, "ch7/table7_1")["physics"] == {"bench": cfg["physics"]["bench"]}
+    assert cli.config_slice(cfg, "ch3/fig3_4")["ch3"] == cfg["ch3"]
+    assert cli.config_slice(cfg, "ch3") == cli.config_slice(cfg, "ch3/fig3_4")
+    # another experiment's key does not reach this slice; its own does
+    other = load_config("smoke", overrides={"ch7": {"arm_fixed": {"evaluations": 7}},
+                                            "physics": {"bench": {"repeats": 2}}})
+    assert cli.config_slice(other, "ch7/ball") == ball
+    assert cli.config_slice(other, "ch7/arm_fixed") != cli.config_slice(cfg, "ch7/arm_fixed")
+    assert cli.config_slice(other, "ch7/table7_1") != cli.config_slice(cfg, "ch7/table7_1")

@@ -25,7 +25,7 @@ for _name, _what, _minutes, _threads in _CH7_RUNS:
         output:
             nc=result("ch7", _name),
         params:
-            cfg=cfg_slice("ch7"),
+            cfg=cfg_slice(f"ch7/{_name}"),
             code=code_of("ch7"),
             key=f"ch7/{_name}",
         log:
@@ -46,7 +46,7 @@ rule ch7_table7_1:
     output:
         nc=result("ch7", "table7_1"),
     params:
-        cfg=cfg_slice("physics"),
+        cfg=cfg_slice("ch7/table7_1"),
         code=code_of("ch7"),
     log:
         log_path("ch7", "table7_1"),
@@ -67,7 +67,7 @@ rule ch7_table7_1_peers:
     output:
         nc=result("ch7", "table7_1_peers"),
     params:
-        cfg=cfg_slice("physics"),
+        cfg=cfg_slice("ch7/table7_1_peers"),
         code=code_of("ch7"),
     log:
         log_path("ch7", "table7_1_peers"),

@@ -54,9 +54,10 @@ def figure_path(ch, name):
     return f"reports/{PROFILE}/figures/{ch}/{name}.png"
 
 
-def cfg_slice(ch):
-    """Canonical JSON of what a chapter's results depend on (params: reruns on change)."""
-    return json.dumps(config_slice(config, ch), sort_keys=True)
+def cfg_slice(key):
+    """Canonical JSON of the config an experiment ("ch7/ball") or a chapter ("ch3") reads
+    (thesis.registry.reads), as params: the rule reruns when that part changes."""
+    return json.dumps(config_slice(config, key), sort_keys=True)
 
 
 def code_of(ch):
