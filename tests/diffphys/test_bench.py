@@ -36,6 +36,21 @@ def test_controller_sizes_are_the_thesis_counts(quad):
         assert [x.shape for x in w] == list(zip(sizes[:-1], sizes[1:]))
 
 
+def test_sensor_vector_reads_the_chosen_imu(quad):
+    model, state = quad
+    sens = sensors(model, state)
+    bodies = be.sensor_bodies(model)
+    n = 2 * model.n_servo
+    for imu, key in (("attitude", "imu_up"), ("accelerometer", "imu_acc")):
+        x = np.asarray(be.sensor_vector(model, sens, imu))
+        np.testing.assert_array_equal(x[n:n + 3 * len(bodies)],
+                                      np.asarray(sens[key])[bodies].reshape(-1))
+    # the standing torso is level: its up axis is the body z axis
+    np.testing.assert_allclose(np.asarray(sens["imu_up"])[bodies[0]], [0, 0, 1], atol=1e-6)
+    with pytest.raises(ValueError, match="imu must be one of"):
+        be.sensor_vector(model, sens, "magnetometer")
+
+
 def test_controller_outputs_targets_and_memory(quad):
     model, state = quad
     n_in = int(be.sensor_vector(model, sensors(model, state)).shape[0])
@@ -129,6 +144,15 @@ def test_mjcf_of_a_tilted_limited_chain_matches_the_engine():
     np.testing.assert_allclose(d.xaxis[jid], np.array([0, 1, 1]) / np.sqrt(2), atol=1e-5)
     np.testing.assert_allclose(d.xanchor[jid], [0.2, 0, 0.5], atol=1e-5)
     assert mm.nsensordata == 2 * 1 + 6 * 2 + 3
+    # attitude channels (after jointpos, jointvel) = the engine's imu_up of both bodies
+    up = np.asarray(sensors(model, state)["imu_up"])[[0, 1]].reshape(-1)
+    np.testing.assert_allclose(d.sensordata[2:8], up, atol=1e-5)
+    assert abs(up[3:] - [0, 0, 1]).max() > 0.1  # the tilted link reads a tilt
+    acc = mujoco.MjModel.from_xml_string(
+        model_to_mjcf(model, state, imu_bodies=[0, 1], imu="accelerometer"))
+    assert [int(t) for t in acc.sensor_type[2:4]] == [int(mujoco.mjtSensor.mjSENS_ACCELEROMETER)] * 2
+    with pytest.raises(ValueError, match="imu must be"):
+        model_to_mjcf(model, state, imu_bodies=[0], imu="magnetometer")
 
 
 def test_servo_ctrl_is_the_engine_servo_law():
@@ -148,7 +172,7 @@ def test_dataset_layout_on_a_tiny_run():
     cfg = {"root_seed": 3, "jax": {}, "physics": {"bench": dict(
         batches=[1, 2], hidden_layers=[[4]], memory_units=8, simulated_seconds=0.02,
         repeats=1, grad_decay=0.9, warm_start_grad=1.0, remat=False, output_gain=0.1,
-        initial_velocity_std=0.05,
+        initial_velocity_std=0.05, imu="accelerometer",
         gpu=False)}}
     ctx = RunContext(key="ch7/table7_1", profile="smoke", config={}, full_config=cfg,
                      log=logging.getLogger("test"))
@@ -168,6 +192,7 @@ def test_dataset_layout_on_a_tiny_run():
     per = 1e3 * s / (np.array([1, 2])[None, :, None, None] * 2)
     np.testing.assert_allclose(ds["ms_per_robot_step"].values, per, rtol=1e-6)
     assert ds.attrs["grad_decay"] == 0.9 and ds.attrs["n_steps"] == 2
+    assert ds.attrs["imu"] == "accelerometer" and ds.attrs["output_gain"] == 0.1
 
 
 _SPLIT = """
@@ -211,10 +236,11 @@ def test_closed_loop_gradient_matches_float64_differences(x64):
     derivative of the torso displacement w.r.t. the 1,296 weights equals central
     differences in float64 over 25 steps. (Its growth over 10 s, ~x1.3 per step in the
     first 100 steps, is the true sensitivity of this random closed loop: differences
-    with eps 1e-9 grow the same way.)"""
+    with eps 1e-9 grow the same way.) The accelerometer IMU, whose loop is the
+    stiffest, is the hard case."""
     model, s0 = be.quadruped(dtype=jnp.float64)
-    ctrl = be.make_controller(model, 8)
-    n_s = int(be.sensor_vector(model, sensors(model, s0)).shape[0])
+    ctrl = be.make_controller(model, 8, imu="accelerometer")
+    n_s = int(be.sensor_vector(model, sensors(model, s0), "accelerometer").shape[0])
     sizes = be.controller_sizes(n_s, model.n_servo, 8, [])
     k_w, k_s, k_d = jax.random.split(jax.random.PRNGKey(0), 3)
     w = be.init_controller(k_w, sizes, output_gain=0.1, dtype=jnp.float64)

@@ -26,6 +26,10 @@ def test_imu_reads_specific_force_and_body_rates():
     np.testing.assert_allclose(sen["imu_acc"][1], rot.T @ np.array([0, 0, G]), atol=1e-3)
     np.testing.assert_allclose(sen["imu_gyro"][0], np.asarray(s.rot[0]).T @ [0, 0, 2.0],
                                atol=1e-4)
+    # attitude: the world's up axis in each body's frame, the held body's up = body +y
+    np.testing.assert_allclose(sen["imu_up"][1], [0, 1, 0], atol=1e-6)
+    np.testing.assert_allclose(sen["imu_up"][0], np.asarray(s.rot[0]).T @ [0, 0, 1.0],
+                               atol=1e-6)
 
 
 def test_contact_forces_share_the_weight():

@@ -15,10 +15,26 @@ bias-free dense networks that read 81 values and write 16 are
 16 outputs for an 8-servo robot are read as 8 servo targets [rad] plus an 8-unit memory
 h^t (tanh), fed back as 8 of the 81 inputs (eq. 7.3: ``u^t, h^{t+1} = g(s^t, h^t | W)``).
 The other 73 inputs are the robot's sensors (:func:`sensor_vector`): 8 joint angles and
-8 joint velocities (encoders), an IMU (3-axis specific force + 3-axis gyro, body frame)
-on each of the 9 articulated bodies (torso, 4 thighs, 4 shanks) and the torso's velocity
-in its own frame (odometry). Hidden layers are ReLU; all weights orthogonal (hidden gain
+8 joint velocities (encoders), an IMU (3 attitude + 3 gyro channels, body frame) on each
+of the 9 articulated bodies (torso, 4 thighs, 4 shanks) and the torso's velocity in its
+own frame (odometry). Hidden layers are ReLU; all weights orthogonal (hidden gain
 sqrt 2, output gain ``output_gain``), so the robot moves and its contacts change.
+
+The IMU's three non-gyro channels (``imu``): ``"attitude"`` (default) reads the world's up
+axis in the body frame (``sensors()["imu_up"]``, what an IMU's attitude filter reports);
+``"accelerometer"`` reads the specific force, which the engine differentiates from the
+velocity change of the last step. Why attitude: the original engine has no accelerometer
+(its sensors are positions, velocities and orientations, FACTS §2.8), and the
+finite-difference reading makes the exact gradient of Tab. 7.1 meaningless: its
+derivative w.r.t. velocity is ~1/dt, and through the controller and the servos it closes
+a loop whose tangent grows ~x1.3 per step, so the 10-s gradient overflows float32
+(measured Nov 2026, batch 1, 1,296 parameters, output gain 0.1: norm 9e4 after 50 steps,
+1e34 after 400, NaN from 700 on; with the accelerometer's gradient cut, 8e3 after 1,000).
+The second loop is the joint velocities: a servo below its torque limit turns a target
+change into a joint rate change of ``servo gain`` (50 s^-1) times as much, so an output
+gain above 1 / 50 also diverges in the tangent space (attitude IMU, output gain 0.1:
+norm 9e23 after 600 steps, NaN from 850 on) while the forward pass stays bounded only
+because the servos saturate. ``grid_dataset`` records whether every gradient is finite.
 
 What is timed (medians of ``repeats`` runs after compilation, ``block_until_ready``):
 ``forward`` = the rollout returning each robot's travelled distance (torso x at the end
@@ -44,7 +60,7 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec as P
 
 __all__ = [
-    "controller_sizes", "count_params", "init_controller", "apply_controller",
+    "IMU_READINGS", "controller_sizes", "count_params", "init_controller", "apply_controller",
     "sensor_bodies", "sensor_vector", "make_controller", "quadruped", "initial_states",
     "distance_fn", "build_bench_fn", "time_compiled", "grad_stats", "platforms",
     "grid_dataset", "table7_1",
@@ -96,32 +112,39 @@ def sensor_bodies(model) -> np.ndarray:
     return np.asarray([roots[0], *driven], dtype=np.int32)
 
 
-def sensor_vector(model, sens: dict):
+IMU_READINGS = {"attitude": "imu_up", "accelerometer": "imu_acc"}
+
+
+def sensor_vector(model, sens: dict, imu: str = "attitude"):
     """The controller's sensor inputs (thesis §7.3.1), shape (2 n_servo + 6 n_imu + 3,).
 
     ``[joint angles of the servoed coordinates (rad), their velocities (rad/s),
-    specific force (m/s^2) and angular velocity (rad/s) of every IMU body in its frame,
+    IMU reading of every IMU body in its frame (``imu="attitude"``: world up axis [1];
+    ``"accelerometer"``: specific force [m/s^2]), their angular velocities (rad/s),
     torso linear velocity in the torso frame (m/s)]``; 73 values for the quadruped.
     """
+    if imu not in IMU_READINGS:
+        raise ValueError(f"imu must be one of {sorted(IMU_READINGS)}, got {imu!r}")
     d = model.servo_dof
-    imu = sensor_bodies(model)
-    root = int(imu[0])
+    bodies = sensor_bodies(model)
+    root = int(bodies[0])
     v_root = sens["body_rot"][root].T @ sens["body_vel"][root]
     return jnp.concatenate([sens["joint_angle"][d], sens["joint_velocity"][d],
-                            sens["imu_acc"][imu].reshape(-1), sens["imu_gyro"][imu].reshape(-1),
-                            v_root])
+                            sens[IMU_READINGS[imu]][bodies].reshape(-1),
+                            sens["imu_gyro"][bodies].reshape(-1), v_root])
 
 
-def make_controller(model, n_memory: int):
+def make_controller(model, n_memory: int, imu: str = "attitude"):
     """Closed-loop controller for :func:`thesis.physics.rollout` (Fig. 7.2, eq. 7.3).
 
     ``(weights, sensors, memory (n_memory,), t) -> (servo targets (n_servo,) [rad],
-    new memory)``.
+    new memory)``; ``imu`` picks the IMU reading of :func:`sensor_vector`.
     """
     n_servo = model.n_servo
 
     def controller(weights, sens, memory, t):
-        y = apply_controller(weights, jnp.concatenate([sensor_vector(model, sens), memory]))
+        y = apply_controller(weights, jnp.concatenate([sensor_vector(model, sens, imu),
+                                                       memory]))
         return y[:n_servo], jnp.tanh(y[n_servo:n_servo + n_memory])
 
     return controller
@@ -294,8 +317,9 @@ def table7_1(ctx):
     dt = float(model.dt)
     n_steps = int(round(cfg["simulated_seconds"] / dt))
     n_mem = int(cfg["memory_units"])
-    controller = make_controller(model, n_mem)
-    n_sensors = int(sensor_vector(model, _sensors0(model, state0)).shape[0])
+    imu = str(cfg["imu"])
+    controller = make_controller(model, n_mem, imu)
+    n_sensors = int(sensor_vector(model, _sensors0(model, state0), imu).shape[0])
     sizes = [controller_sizes(n_sensors, model.n_servo, n_mem, h) for h in cfg["hidden_layers"]]
     key = _key(ctx)
     k_w, k_s = jax.random.split(key)
@@ -331,6 +355,7 @@ def table7_1(ctx):
         controller="bias-free MLP, inputs = sensors + memory, ReLU hidden, outputs = "
                    "servo targets + tanh memory",
         controller_layers=[str(s) for s in sizes], n_sensors=n_sensors, memory_units=n_mem,
+        imu=imu, output_gain=float(cfg["output_gain"]),
         peak_memory_source="jax compiled.memory_analysis(): argument+output+temp-alias "
                            "bytes per device x devices used",
         loss="sum over the batch of the torso's x displacement after n_steps [m]",

@@ -3,8 +3,9 @@
 ``thesis bench mjx`` -> ``results/<profile>/ch7/table7_1_peers.nc``. The robot is the
 MJCF written from our engine's quadruped (:mod:`thesis.diffphys.quadruped_mjcf`), the
 controllers are the bias-free MLPs of :mod:`thesis.diffphys.bench_engine` (same sizes,
-same 73 sensor channels -- here MuJoCo's ``jointpos``/``jointvel``/``accelerometer``/
-``gyro``/``velocimeter`` sensors -- plus the 8-unit memory), the servo targets go
+same 73 sensor channels -- here MuJoCo's ``jointpos``/``jointvel``/``framezaxis`` (or
+``accelerometer``, config ``imu``)/``gyro``/``velocimeter`` sensors -- plus the 8-unit
+memory), the servo targets go
 through the engine's servo law (:func:`quadruped_mjcf.servo_ctrl`) into velocity
 actuators. The timed quantity is the same: the torso's x displacement after
 ``simulated_seconds`` for a batch, forward only and with the gradient w.r.t. all
@@ -49,7 +50,7 @@ def require_mujoco():
 def mjx_setup(model, state0, cfg):
     """``(mj_model, servo constants dict)`` of the engine model written as MJCF."""
     mujoco, _ = require_mujoco()
-    xml = model_to_mjcf(model, state0, imu_bodies=be.sensor_bodies(model),
+    xml = model_to_mjcf(model, state0, imu_bodies=be.sensor_bodies(model), imu=str(cfg["imu"]),
                         servo_kv=float(cfg["mjx_servo_kv"]),
                         solver_iterations=int(cfg["mjx_solver_iterations"]),
                         ls_iterations=int(cfg["mjx_ls_iterations"]))
@@ -207,6 +208,7 @@ def table7_1_peers(ctx):
         mujoco_version=mujoco.__version__, mjx_solver_iterations=int(cfg["mjx_solver_iterations"]),
         mjx_ls_iterations=int(cfg["mjx_ls_iterations"]), servo_kv=float(cfg["mjx_servo_kv"]),
         integrator="implicitfast", grad_decay=1.0, grad_clip="none (raw Jacobian)",
+        imu=str(cfg["imu"]), output_gain=float(cfg["output_gain"]),
         remat=int(bool(cfg["remat"])), controller_layers=[str(s) for s in sizes],
         mujoco_c_solver_iterations=int(cfg["mujoco_c_solver_iterations"]),
         mujoco_c="forward only, closed loop stepped by mujoco.rollout.Rollout one step at a "

@@ -25,8 +25,10 @@ Mapping (engine -> MJCF) and the unavoidable differences:
   the same clipped target rate (:func:`servo_ctrl`), and ``implicitfast`` integrates the
   actuator damping implicitly, so a stiff ``kv`` stays stable.
 * sensors (for the closed loop, same 73 channels as ``bench_engine.sensor_vector``):
-  ``jointpos`` and ``jointvel`` of the servoed joints, ``accelerometer`` and ``gyro`` on
-  a site at each IMU body's centre of mass, ``velocimeter`` on the root.
+  ``jointpos`` and ``jointvel`` of the servoed joints, on a site at each IMU body's
+  centre of mass the attitude (``framezaxis`` of the world expressed in the site frame,
+  the engine's ``imu_up``) or the ``accelerometer``, then the ``gyro``; ``velocimeter``
+  on the root.
 """
 
 from __future__ import annotations
@@ -81,13 +83,16 @@ def _tree(model):
     return roots[0], parent_joint, children
 
 
-def model_to_mjcf(model, state, *, imu_bodies, servo_kv: float = 100.0,
-                  solver_iterations: int = 1, ls_iterations: int = 4) -> str:
+def model_to_mjcf(model, state, *, imu_bodies, imu: str = "attitude",
+                  servo_kv: float = 100.0, solver_iterations: int = 1,
+                  ls_iterations: int = 4) -> str:
     """MJCF XML string of a free-floating hinge/fixed-joint tree of the engine.
 
     Args:
         model, state: the engine's Model and (initial) State.
-        imu_bodies: body indices that get an accelerometer + gyro site.
+        imu_bodies: body indices that get an IMU site (attitude or accelerometer + gyro).
+        imu: ``"attitude"`` (world up axis in the site frame) or ``"accelerometer"``,
+            as ``bench_engine.sensor_vector``.
         servo_kv: velocity-actuator gain [N m s/rad].
         solver_iterations, ls_iterations: MuJoCo solver settings.
     """
@@ -120,7 +125,7 @@ def model_to_mjcf(model, state, *, imu_bodies, servo_kv: float = 100.0,
         tc = max(1.0 / (2 * np.pi * hz[mt] * max(zeta[mt], 1e-6)), 2 * dt)
         return f"{tc:.6g} {max(zeta[mt], 1e-6):.6g}"
 
-    imu = set(int(b) for b in imu_bodies)
+    imu_set = set(int(b) for b in imu_bodies)
     lines = []
 
     def body(b, depth):
@@ -158,7 +163,7 @@ def model_to_mjcf(model, state, *, imu_bodies, servo_kv: float = 100.0,
                          f'{float(m.csphere_radius[c]):.9g}" pos="{_f(m.csphere_offset[c])}" '
                          f'contype="1" conaffinity="0" condim="3" friction="{friction[mt]:.6g} '
                          f'0.005 0.0001" solref="{solref(mt)}" mass="0" group="3"/>')
-        if b in imu:
+        if b in imu_set:
             lines.append(f'{ind}  <site name="imu_{name}" pos="0 0 0"/>')
         for ch in children[b]:
             body(ch, depth + 1)
@@ -193,7 +198,13 @@ def model_to_mjcf(model, state, *, imu_bodies, servo_kv: float = 100.0,
     for s in range(m.n_servo):
         sens.append(f'    <jointvel joint="{m.joint_names[int(m.dof_joint[int(m.servo_dof[s])])]}"/>')
     names = [m.body_names[int(b)] for b in imu_bodies]
-    sens += [f'    <accelerometer site="imu_{n}"/>' for n in names]
+    if imu == "attitude":
+        sens += [f'    <framezaxis objtype="xbody" objname="world" reftype="site" '
+                 f'refname="imu_{n}"/>' for n in names]
+    elif imu == "accelerometer":
+        sens += [f'    <accelerometer site="imu_{n}"/>' for n in names]
+    else:
+        raise ValueError(f"imu must be 'attitude' or 'accelerometer', got {imu!r}")
     sens += [f'    <gyro site="imu_{n}"/>' for n in names]
     sens.append(f'    <velocimeter site="imu_{m.body_names[root]}"/>')
     g = np.asarray(m.gravity, np.float64)

@@ -4,6 +4,9 @@
 what they need. The accelerometer differentiates the linear velocity over the last step
 (``State.prev_vel``) and, like a real IMU, measures specific force (acceleration minus
 gravity) in the body frame; the gyroscope is the angular velocity in the body frame.
+``imu_up`` is the world's vertical axis in the body frame, the tilt an IMU's attitude
+filter reports: a smooth function of the pose, unlike the accelerometer, whose
+finite difference carries every impact and makes d(reading)/d(velocity) ~ 1/dt.
 Contact forces are the normal impulses the solver applied in the last step divided by dt.
 """
 
@@ -40,6 +43,7 @@ def sensors(model: Model, state: State) -> dict:
         body_angvel (n_body, 3) [rad/s] (world frame);
         imu_acc (n_body, 3) specific force in the body frame [m/s^2] (reads +g upwards
         at rest); imu_gyro (n_body, 3) angular velocity in the body frame [rad/s];
+        imu_up (n_body, 3) unit world z axis in the body frame (R^T e_z, [1]);
         contact_force (n_csphere,) normal force [N].
     """
     m, s = model, state
@@ -52,5 +56,6 @@ def sensors(model: Model, state: State) -> dict:
         body_vel=s.vel, body_angvel=s.angvel,
         imu_acc=mtv(s.rot, acc),
         imu_gyro=mtv(s.rot, s.angvel),
+        imu_up=s.rot[..., 2, :],
         contact_force=contact_normal_force(m, s),
     )
