@@ -10,33 +10,6 @@ from thesis.diffphys import bptt
 from thesis.errors import SimulationDiverged
 
 
-def test_scale_gradient_is_identity_forward():
-    x = {"a": jnp.array([1.0, -2.0, 3.0]), "n": jnp.array([1, 2])}
-    y = bptt.scale_gradient(x, 0.3)
-    np.testing.assert_array_equal(np.asarray(y["a"]), np.asarray(x["a"]))
-    np.testing.assert_array_equal(np.asarray(y["n"]), np.asarray(x["n"]))
-
-
-def test_scale_gradient_scales_the_backward_pass():
-    x = jnp.array([1.0, -2.0, 3.0])
-    g = jax.grad(lambda v: jnp.sum(bptt.scale_gradient(v, 0.3) ** 2))(x)
-    np.testing.assert_allclose(np.asarray(g), 0.3 * 2 * np.asarray(x), rtol=1e-6)
-
-
-def test_scale_gradient_compounds_per_step_like_alpha_to_the_k():
-    # a scan of k steps, the state decayed after every step: d x_k / d x_0 = alpha^k
-    alpha, k = 0.9, 7
-
-    def run(x0):
-        def body(x, _):
-            return bptt.scale_gradient(1.0 * x, alpha), None
-        xk, _ = jax.lax.scan(body, x0, None, length=k)
-        return xk
-
-    assert float(run(jnp.float32(2.0))) == 2.0
-    np.testing.assert_allclose(float(jax.grad(run)(jnp.float32(2.0))), alpha ** k, rtol=1e-6)
-
-
 def _two_updates(opt, grads):
     params = jnp.zeros(2)
     st = opt.init(params)

@@ -4,8 +4,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.physics.math import (inv3, inv_spd, orthonormalize, quat_to_rot, safe_norm,
-                                 safe_normalize, tangent_basis)
+from thesis.physics.math import (decay_gradient, inv3, inv_spd, orthonormalize, quat_to_rot,
+                                 safe_norm, safe_normalize, tangent_basis)
 
 
 def test_orthonormalize_contracts_error_quadratically():
@@ -48,3 +48,30 @@ def test_small_inverses_match_numpy():
     np.testing.assert_allclose(inv_spd(jnp.asarray(spd)), np.linalg.inv(spd), rtol=2e-3, atol=1e-4)
     a = rng.normal(size=(5, 3, 3)) + 3 * np.eye(3)
     np.testing.assert_allclose(inv3(jnp.asarray(a)), np.linalg.inv(a), rtol=1e-4, atol=1e-5)
+
+
+def test_decay_gradient_is_identity_forward():
+    x = {"a": jnp.array([1.0, -2.0, 3.0]), "n": jnp.array([1, 2])}
+    y = decay_gradient(x, 0.3)
+    np.testing.assert_array_equal(np.asarray(y["a"]), np.asarray(x["a"]))
+    np.testing.assert_array_equal(np.asarray(y["n"]), np.asarray(x["n"]))
+
+
+def test_decay_gradient_scales_the_backward_pass():
+    x = jnp.array([1.0, -2.0, 3.0])
+    g = jax.grad(lambda v: jnp.sum(decay_gradient(v, 0.3) ** 2))(x)
+    np.testing.assert_allclose(np.asarray(g), 0.3 * 2 * np.asarray(x), rtol=1e-6)
+
+
+def test_decay_gradient_compounds_per_step_like_alpha_to_the_k():
+    # a scan of k steps, the state decayed after every step: d x_k / d x_0 = alpha^k
+    alpha, k = 0.9, 7
+
+    def run(x0):
+        def body(x, _):
+            return decay_gradient(1.0 * x, alpha), None
+        xk, _ = jax.lax.scan(body, x0, None, length=k)
+        return xk
+
+    assert float(run(jnp.float32(2.0))) == 2.0
+    np.testing.assert_allclose(float(jax.grad(run)(jnp.float32(2.0))), alpha ** k, rtol=1e-6)

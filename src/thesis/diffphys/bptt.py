@@ -1,9 +1,10 @@
 """Training tricks of §7.3.2 for backpropagation through time, and shared helpers.
 
 The four tricks of §7.3.2: (1) an objective averaged over every time step (done by each
-experiment's loss), (2) the gradient decayed by a factor alpha < 1 per time step
-(:func:`scale_gradient`, the original's ``MulGrad``, FACTS §2.1), (3) a zero-output initial
-policy (:mod:`thesis.diffphys.nets`), (4) the gradient's L2 norm clipped to 1
+experiment's loss), (2) the gradient decayed by a factor alpha < 1 per time step (the
+engine's :func:`thesis.physics.decay_gradient`, the original's ``MulGrad``, FACTS §2.1),
+(3) a zero-output initial policy (:mod:`thesis.diffphys.nets`), (4) the gradient's L2 norm
+clipped to 1
 (:func:`make_optimizer`, ``optax.clip_by_global_norm``).
 
 Also: :func:`check_finite` (a non-finite loss or gradient raises
@@ -16,44 +17,13 @@ from __future__ import annotations
 import time
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import optax
 
 from thesis.errors import SimulationDiverged
 
-__all__ = ["scale_gradient", "make_optimizer", "check_finite", "first_reach", "timed",
+__all__ = ["make_optimizer", "check_finite", "first_reach", "timed",
            "all_finite"]
-
-
-@jax.custom_vjp
-def _scale(x, alpha):
-    return x
-
-
-def _scale_fwd(x, alpha):
-    return x, alpha
-
-
-def _scale_bwd(alpha, g):
-    return (jax.tree.map(lambda t: (alpha * t).astype(t.dtype), g), jnp.zeros_like(alpha))
-
-
-_scale.defvjp(_scale_fwd, _scale_bwd)
-
-
-def scale_gradient(tree, alpha):
-    """Identity in the forward pass; multiplies the cotangent of every float leaf by ``alpha``.
-
-    Applied to the state after every simulation step, the gradient reaching step t from
-    step t + k is scaled by alpha^k (§7.3.2, second trick). ``alpha`` is a scalar; it
-    receives no gradient.
-    """
-    def f(x):
-        if not jnp.issubdtype(jnp.result_type(x), jnp.floating):
-            return x
-        return _scale(x, jnp.asarray(alpha, x.dtype))
-    return jax.tree.map(f, tree)
 
 
 def make_optimizer(learning_rate: float, clip_norm: float | None, *, b1: float = 0.9,

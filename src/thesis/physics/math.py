@@ -178,13 +178,32 @@ def rodrigues(phi):
     return eye + a[..., None, None] * k + b[..., None, None] * mm(k, k)
 
 
+@jax.custom_vjp
+def _scale_cotangent(x, alpha):
+    return x
+
+
+def _scale_cotangent_fwd(x, alpha):
+    return x, alpha
+
+
+def _scale_cotangent_bwd(alpha, g):
+    return (alpha * g).astype(g.dtype), jnp.zeros_like(alpha)
+
+
+_scale_cotangent.defvjp(_scale_cotangent_fwd, _scale_cotangent_bwd)
+
+
 def decay_gradient(tree, alpha):
-    """Identity forward; multiplies the cotangent of every float leaf of ``tree`` by
-    ``alpha`` (``alpha x + (1 - alpha) stop_gradient(x)``; the original's ``MulGrad``, §7.3.2).
-    ``alpha`` = 0 cuts the gradient, 1 leaves it exact."""
+    """Identity forward (bit-exact); multiplies the cotangent of every float leaf of ``tree``
+    by ``alpha`` (the original's ``MulGrad``, §7.3.2's second trick, FACTS §2.1).
+
+    Applied to the state after every step, the gradient reaching step t from step t + k is
+    scaled by alpha^k. ``alpha`` is a scalar (it may be traced) and receives no gradient;
+    0 cuts the gradient, 1 leaves it exact.
+    """
     def f(x):
         if not jnp.issubdtype(jnp.result_type(x), jnp.floating):
             return x
-        a = jnp.asarray(alpha, x.dtype)
-        return a * x + (1 - a) * jax.lax.stop_gradient(x)
+        return _scale_cotangent(x, jnp.asarray(alpha, jnp.result_type(x)))
     return jax.tree.map(f, tree)
