@@ -23,6 +23,12 @@ m/s), with 80 N m (20 sweeps x 4 N m, the quirk's upper bound) it turns over and
 on its back (0.074 m/s, noisy between 0.03 and 0.11). At the start the decayed gradient
 (alpha 0.95) has a cosine of -0.21 with the exact one (norms 1.6 and 43) yet is an ascent
 direction (directional difference +0.66); after the collapse it is not (-0.04).
+
+500 evaluations at 40 N m (``--set ch7.gait.evaluations=500 --set
+ch7.gait.servo_torque=40``, 3 seeds, 7.3-8.2 min each, Nov 2026): the robot learns to
+shuffle forward, speed at evaluation 500 0.174 / 0.130 / 0.144 m/s (means over
+evaluations 451-500: 0.141 / 0.265 / 0.135; final 0.161 / 0.171 / 0.149), still a sixth of
+the thesis's 1.17 m/s, so the default stays at the thesis's 4 N m.
 """
 
 from __future__ import annotations
