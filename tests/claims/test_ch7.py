@@ -134,19 +134,44 @@ def test_quadruped_gait():
     assert v.status == "inconclusive" and "run ended" in v.detail
 
 
-def test_pendulum():
-    succ = np.zeros((3, 100))
-    succ[:, 40:] = 1.0
+def _pendulum(first_held, stays_up_s, time_to_up_s, test_s=60.0, episodes=100):
+    succ = np.zeros((3, episodes))
+    for i, e in enumerate(first_held):
+        if e is not None:
+            succ[i, e:] = 1.0
+    seeds = {"seed": [0, 1, 2]}
     da = xr.DataArray(succ, dims=("seed", "episode"),
-                      coords={"seed": [0, 1, 2], "episode": np.arange(1, 101) * 50},
+                      coords={**seeds, "episode": np.arange(1, episodes + 1) * 50},
                       attrs={"units": "1", "long_name": "swing-up and balance"})
-    ds = xr.Dataset({"success": da})
-    v = check("ch7.vision_control_learned_through_camera", pendulum_pixels=ds)
+    def per_seed(v):
+        return xr.DataArray(np.array(v, float), dims=("seed",), coords=seeds,
+                            attrs={"units": "s"})
+    return xr.Dataset({"success": da, "stays_up_s": per_seed(stays_up_s),
+                       "time_to_up_s": per_seed(time_to_up_s)}, attrs={"test_s": test_s})
+
+
+def test_pendulum_needs_held_episodes_and_a_balancing_test_run():
+    name = "ch7.vision_control_learned_through_camera"
+    ds = _pendulum([40, 40, 40], [58.0, 59.0, 57.5], [2.0, 1.0, 2.5])
+    v = check(name, pendulum_pixels=ds)
     assert v.status == "reproduced" and v.measured["episodes_to_success_median"] == 2050.0
-    never = ds.copy(deep=True)
-    never["success"][:] = 0.0
+    assert v.measured["seeds_balanced_in_test"] == 3
+    never = _pendulum([None] * 3, [0.0] * 3, [np.nan] * 3)
     assert check("ch8.ch7_pendulum_from_pixels", pendulum_pixels=never).status == (
         "not_reproduced")
+    # held once in training, but the final controller only swings through upright: a seed
+    # that ran past the limit fails, so 2 of 3 failing is not_reproduced
+    swings = _pendulum([40, 40, 40], [58.0, 0.3, 0.2], [2.0, 1.0, 2.5])
+    v = check(name, pendulum_pixels=swings)
+    assert v.status == "not_reproduced" and v.measured["seeds_held_in_training"] == 3
+    assert v.measured["seeds_balanced_in_test"] == 1
+    # a short run whose test does not balance yet is censored, not failed
+    short = _pendulum([5, 5, 5], [0.3] * 3, [1.0] * 3, test_s=10.0, episodes=10)
+    assert check(name, pendulum_pixels=short).status == "inconclusive"
+    bare = ds.copy()
+    bare.attrs = {}
+    v = check(name, pendulum_pixels=bare)
+    assert v.status == "not_run" and "test_s" in v.detail
 
 
 def _arm_fixed(cmaes_reached, gradient_reached, n_eval=50):
