@@ -4,8 +4,7 @@ The four tricks of §7.3.2: (1) an objective averaged over every time step (done
 experiment's loss), (2) the gradient decayed by a factor alpha < 1 per time step (the
 engine's :func:`thesis.physics.decay_gradient`, the original's ``MulGrad``, FACTS §2.1),
 (3) a zero-output initial policy (:mod:`thesis.diffphys.nets`), (4) the gradient's L2 norm
-clipped to 1
-(:func:`make_optimizer`, ``optax.clip_by_global_norm``).
+clipped to 1 (:func:`make_optimizer`, ``optax.clip_by_global_norm``).
 
 Also: :func:`check_finite` (a non-finite loss or gradient raises
 :class:`thesis.errors.SimulationDiverged`), :func:`first_reach` (iterations until a
@@ -22,8 +21,7 @@ import optax
 
 from thesis.errors import SimulationDiverged
 
-__all__ = ["make_optimizer", "check_finite", "first_reach", "timed",
-           "all_finite"]
+__all__ = ["make_optimizer", "check_finite", "first_reach", "timed", "all_finite"]
 
 
 def make_optimizer(learning_rate: float, clip_norm: float | None, *, b1: float = 0.9,

@@ -27,8 +27,8 @@ direction (directional difference +0.66); after the collapse it is not (-0.04).
 500 evaluations at 40 N m (``--set ch7.gait.evaluations=500 --set
 ch7.gait.servo_torque=40``, 3 seeds, 7.3-8.2 min each, Nov 2026): the robot learns to
 shuffle forward, speed at evaluation 500 0.174 / 0.130 / 0.144 m/s (means over
-evaluations 451-500: 0.141 / 0.265 / 0.135; final 0.161 / 0.171 / 0.149), still a sixth of
-the thesis's 1.17 m/s, so the default stays at the thesis's 4 N m.
+evaluations 451-500: 0.141 / 0.265 / 0.135; final 0.161 / 0.171 / 0.149), about a sixth
+of the thesis's speed (``thesis.paper``), so the default stays at the thesis's 4 N m.
 """
 
 from __future__ import annotations
