@@ -47,6 +47,23 @@ def test_rnn_steps_differ_after_localisation_weights_move():
     assert float(jnp.abs(theta[:, 0] - theta[:, 1]).max()) > 1e-4  # one transform per digit
 
 
+@pytest.mark.parametrize("transform", ["bilinear", "bilinear_no_skew", "chirp_z"])
+def test_rnn_step_shift_offsets_only_the_x_translation_of_each_step(transform):
+    import dataclasses
+
+    spec = dataclasses.replace(_spec("rnn_spn", transform), step_shift=0.5)
+    p = init_net(jax.random.key(0), spec)
+    x = jnp.asarray(np.random.default_rng(0).random((2, 84, 84)), jnp.float32)
+    _, theta = apply_net(p, spec, x, return_params=True)
+    want = np.broadcast_to(np.asarray(spec.transform.identity), (2, 3, spec.transform.n_params))
+    want = want.copy()
+    want[:, :, 2] += [-0.5, 0.0, 0.5]  # x translation of the left, middle and right crop
+    np.testing.assert_allclose(np.asarray(theta), want, atol=1e-7)
+    # the crops differ: step 0 looks left of step 2
+    crops = spec.transform(jnp.repeat(x, 3, axis=0), theta.reshape(6, -1), spec.out_size)
+    assert float(jnp.abs(crops[0] - crops[2]).max()) > 0.1
+
+
 def test_conv_and_pool_match_reference():
     rng = np.random.default_rng(0)
     x = rng.random((1, 7, 6, 2)).astype(np.float32)

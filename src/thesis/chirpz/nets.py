@@ -10,7 +10,9 @@ dense layer initialised at W = 0, b = identity, as [RSTN]) -> spatial transform 
   dense 3 x 10 + softmax per digit] (one transform, three heads).
 - RNN-SPN: the same localisation convolutions, their features repeated at every step of
   a GRU (gru_units), one dense P per step -> one transform per digit; the classifier
-  (filters cls_filters) and its dense 10 + softmax are shared over the steps.
+  (filters cls_filters) and its dense 10 + softmax are shared over the steps. Optionally
+  (``step_shift`` != 0, not in the thesis) step t's x translation is offset by a constant
+  so that the steps start on different crops instead of the same identity crop.
 - With the transform ``none`` there is no localisation network and no down-sampling:
   the classifier sees the whole canvas (approach 4 of §2.5); the FFN has three heads
   and the RNN applies its shared classifier to the same image at every step, with the
@@ -44,6 +46,9 @@ class NetSpec:
         canvas: input side S [px]; d: down-sampling factor; n_digits: sequence length.
         loc_filters, loc_dense (FFN), gru_units (RNN), cls_filters, cls_dense: widths.
         dropout: dropout rate of the classifier (0 = none).
+        step_shift: RNN-SPN only: fixed x offset (normalised canvas units) of successive
+            per-digit transforms, step t adding (t - (n_digits - 1) / 2) x step_shift to
+            its x translation; 0 = every step starts at the identity crop ([RSTN]).
     """
 
     model: str
@@ -57,6 +62,7 @@ class NetSpec:
     cls_filters: int
     cls_dense: int
     dropout: float = 0.0
+    step_shift: float = 0.0
 
     @property
     def out_size(self) -> int:
@@ -239,6 +245,10 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
 
         _, theta = lax.scan(step, h0, None, length=nd)  # (nd, B, P)
         theta = jnp.swapaxes(theta, 0, 1)  # (B, nd, P)
+        if spec.step_shift:
+            # fixed per-step x offset of the crop centre (NetSpec.step_shift)
+            shift = (jnp.arange(nd, dtype=theta.dtype) - (nd - 1) / 2.0) * spec.step_shift
+            theta = theta.at[:, :, 2].add(shift[None, :])
         crops = t(
             jnp.repeat(images, nd, axis=0), theta.reshape(b * nd, -1), spec.out_size
         )  # (B*nd, M, M), sample-major
