@@ -86,7 +86,10 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
     chapter = key.split("/", 1)[0]
     fn = registry.resolve(key)
     out = Path(output) if output else store.result_path(profile, key)
-    ctx = RunContext(key=key, profile=profile, config=config.get(chapter, {}),
+    # the chapter's part of the declared slice: an undeclared key is a KeyError, not a
+    # setting whose change Snakemake would miss (thesis.registry.READS)
+    ctx = RunContext(key=key, profile=profile,
+                     config=config_slice(config, key).get(chapter, {}),
                      full_config=config,
                      inputs={k: Path(v) for k, v in (inputs or {}).items()},
                      output=out, log=log)

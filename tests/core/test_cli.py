@@ -23,6 +23,12 @@ FAKE = textwrap.dedent('''
     def diverges(ctx):
         raise SimulationDiverged(ctx.key, seed=1, step=42, what="body_pos")
 
+    def widths(ctx):
+        seeds = [int(s) for s in ctx.config["seeds"]]
+        v = xr.DataArray([float(ctx.config["ffn_spn"]["cls_dense"])] * len(seeds), dims="seed",
+                         coords={"seed": seeds}, attrs={"units": "1", "long_name": "width"})
+        return xr.Dataset({"width": v}, attrs={"thesis_ref": "Tab. 2.1", "seeds": seeds})
+
     def generator(ctx):
         from thesis.store import atomic_path
         with atomic_path(ctx.output) as tmp:
@@ -37,6 +43,7 @@ def fake_registry(tmp_path, monkeypatch):
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/good", "fake_experiments:good")
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/diverges", "fake_experiments:diverges")
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/gen", "fake_experiments:generator")
+    monkeypatch.setitem(registry.EXPERIMENTS, "ch2/widths", "fake_experiments:widths")
     monkeypatch.setitem(registry.BENCHMARKS, "fake", "ch9/good")
     monkeypatch.setenv("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
     return tmp_path
@@ -101,3 +108,33 @@ def test_config_slice_holds_what_the_experiment_reads():
     assert cli.config_slice(other, "ch7/ball") == ball
     assert cli.config_slice(other, "ch7/arm_fixed") != cli.config_slice(cfg, "ch7/arm_fixed")
     assert cli.config_slice(other, "ch7/table7_1") != cli.config_slice(cfg, "ch7/table7_1")
+
+
+def test_experiment_sees_only_the_config_it_declares(fake_registry, tmp_path, monkeypatch):
+    out = tmp_path / "w.nc"
+    monkeypatch.setitem(registry.READS, "ch2/widths", ("ch2.seeds",))
+    with pytest.raises(KeyError, match="ffn_spn"):  # read but not declared
+        cli.run_experiment("ch2/widths", "smoke", output=out)
+    assert not out.exists()
+    monkeypatch.setitem(registry.READS, "ch2/widths", ("ch2.seeds", "ch2.ffn_spn"))
+    cli.run_experiment("ch2/widths", "smoke", output=out, overrides={
+        "ch2": {"ffn_spn": {"cls_dense": 7}}})
+    ds = store.read_dataset(out)
+    assert ds["width"].values.tolist() == [7.0]
+    assert '"rnn_spn"' not in ds.attrs["config_json"]
+
+
+def test_ch2_experiments_declare_narrow_slices():
+    from thesis.config import load_config
+
+    cfg = load_config("smoke")
+    data = cli.config_slice(cfg, "ch2/cluttered_mnist")["ch2"]
+    assert data == {"data": cfg["ch2"]["data"]}
+    ffn = cli.config_slice(cfg, "ch2/table2_2_ffn_spn")["ch2"]
+    assert "ffn_spn" in ffn and "rnn_spn" not in ffn and "data" not in ffn
+    # an RNN-SPN setting reruns neither the data nor the FFN-SPN half
+    other = load_config("smoke", overrides={"ch2": {"rnn_spn": {"step_shift": 0.1}}})
+    for key in ("ch2/cluttered_mnist", "ch2/table2_2_ffn_spn", "ch2/chirpz_scaling"):
+        assert cli.config_slice(other, key) == cli.config_slice(cfg, key)
+    for key in ("ch2/table2_2_rnn_spn", "ch2/table2_2"):
+        assert cli.config_slice(other, key) != cli.config_slice(cfg, key)

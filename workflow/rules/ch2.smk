@@ -13,7 +13,7 @@ rule ch2_cluttered_mnist:
     output:
         data=data_path("cluttered_mnist", f"{PROFILE}.h5"),
     params:
-        cfg=cfg_slice("ch2"),
+        cfg=cfg_slice("ch2/cluttered_mnist"),
         code=code_of("ch2"),
     log:
         log_path("ch2", "cluttered_mnist"),
@@ -39,7 +39,7 @@ for _model in ["ffn_spn", "rnn_spn"]:
         output:
             nc=result("ch2", f"table2_2_{_model}"),
         params:
-            cfg=cfg_slice("ch2"),
+            cfg=cfg_slice(f"ch2/table2_2_{_model}"),
             code=code_of("ch2"),
             key=f"ch2/table2_2_{_model}",
         log:
@@ -64,7 +64,7 @@ rule ch2_table2_2:
     output:
         nc=result("ch2", "table2_2"),
     params:
-        cfg=cfg_slice("ch2"),
+        cfg=cfg_slice("ch2/table2_2"),
         code=code_of("ch2"),
     log:
         log_path("ch2", "table2_2"),
@@ -85,7 +85,7 @@ rule ch2_chirpz_scaling:
     output:
         nc=result("ch2", "chirpz_scaling"),
     params:
-        cfg=cfg_slice("ch2"),
+        cfg=cfg_slice("ch2/chirpz_scaling"),
         code=code_of("ch2"),
     log:
         log_path("ch2", "chirpz_scaling"),
