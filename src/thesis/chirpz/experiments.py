@@ -76,7 +76,7 @@ def _spec(cfg: dict, model: str, transform: str, d: int, canvas: int, n_digits: 
                    loc_dense=w.get("loc_dense", 0), gru_units=w.get("gru_units", 0),
                    cls_filters=w["cls_filters"], cls_dense=w["cls_dense"],
                    dropout=float(cfg["train"]["dropout"]),
-                   step_shift=float(w.get("step_shift", 0.0)) if model == "rnn_spn" else 0.0)
+                   step_shift=float(w.get("step_shift", 0.0)))  # RNN-SPN's key only
 
 
 def _load(ctx: RunContext) -> tuple[dict, dict]:
