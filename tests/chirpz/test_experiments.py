@@ -7,7 +7,6 @@ import logging
 import h5py
 import numpy as np
 import pytest
-import xarray as xr
 
 from thesis import registry
 from thesis.config import load_config
@@ -24,6 +23,7 @@ def tiny(tmp_path_factory):
     c["grid"] = {"downsample": [2, 3], "transforms": ["chirp_z", "none"]}
     c["train"].update(batch_size=6, max_epochs=2, patience=2, loc_lr_scale=1.0)
     c["rnn_spn"]["loc_lr_scale"] = 0.5  # RNN-SPN's own localisation rate
+    c["ffn_spn"]["max_epochs"] = 3  # FFN-SPN's own epoch limit
     c["bench"] = {"sizes": [16, 24, 32], "batch": 1, "repeats": 2}
     tmp = tmp_path_factory.mktemp("ch2")
 
@@ -52,6 +52,7 @@ def test_table2_2_parts_and_join(tiny):
     for m in ("ffn_spn", "rnn_spn"):
         ds = registry.resolve(f"ch2/table2_2_{m}")(ctx(f"ch2/table2_2_{m}", inputs={"data": data}))
         assert ds["test_error"].dims == ("model", "d", "transform", "seed")
+        assert ds.sizes["epoch"] == {"ffn_spn": 3, "rnn_spn": 2}[m]  # the model's own limit
         te = ds["test_error"].values
         assert np.all((te >= 0) & (te <= 1))
         # "none" does not down-sample: one run per seed, repeated under every d
@@ -62,8 +63,12 @@ def test_table2_2_parts_and_join(tiny):
     joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=paths))
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]
     assert joined.attrs["thesis_ref"] == "Tab. 2.2"
-    assert joined.attrs["n_train"] == 12 and joined.attrs["max_epochs"] == 2
+    assert joined.attrs["n_train"] == 12
+    assert json.loads(joined.attrs["max_epochs"]) == {"ffn_spn": 3, "rnn_spn": 2}
     assert json.loads(joined.attrs["loc_lr_scale"]) == {"ffn_spn": 1.0, "rnn_spn": 0.5}
+    # the shorter RNN-SPN curves are padded with NaN up to FFN-SPN's last epoch
+    assert joined.sizes["epoch"] == 3
+    assert np.isnan(joined["valid_error"].sel(model="rnn_spn", epoch=3)).all()
     for name, var in joined.data_vars.items():
         assert "units" in var.attrs and "long_name" in var.attrs, name
     assert joined["test_error"].attrs["units"] == "1"
@@ -71,7 +76,7 @@ def test_table2_2_parts_and_join(tiny):
     assert np.isfinite(joined["valid_error"].isel(epoch=0)).all()
 
 
-def test_model_loc_lr_scale_overrides_train():
+def test_model_sections_override_train():
     from thesis.chirpz.experiments import _train_cfg
 
     cfg = load_config("default")["ch2"]
@@ -80,6 +85,10 @@ def test_model_loc_lr_scale_overrides_train():
     assert _train_cfg(cfg, "rnn_spn")["loc_lr_scale"] == 0.7
     assert _train_cfg(cfg, "ffn_spn")["loc_lr_scale"] == cfg["train"]["loc_lr_scale"]
     assert _train_cfg(cfg, "rnn_spn")["learning_rate"] == cfg["train"]["learning_rate"]
+    cfg["rnn_spn"]["max_epochs"], cfg["ffn_spn"]["max_epochs"] = None, 9
+    assert _train_cfg(cfg, "rnn_spn")["max_epochs"] == cfg["train"]["max_epochs"]  # null
+    assert _train_cfg(cfg, "ffn_spn")["max_epochs"] == 9
+    assert cfg["train"]["max_epochs"] != 9  # the shared section is not modified
 
 
 def test_scaling_benchmark(tiny):

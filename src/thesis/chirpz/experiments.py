@@ -100,7 +100,8 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     canvas, n_digits = data["train"][0].shape[-1], data["train"][1].shape[-1]
     seeds = [int(s) for s in cfg["seeds"]]
     ds_, trs = [int(d) for d in cfg["grid"]["downsample"]], list(cfg["grid"]["transforms"])
-    max_ep = int(cfg["train"]["max_epochs"])
+    tcfg = _train_cfg(cfg, model)
+    max_ep = int(tcfg["max_epochs"])
     shape = (len(ds_), len(trs), len(seeds))
     test = np.full(shape, np.nan)
     best_ep = np.full(shape, np.nan)
@@ -125,8 +126,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 def diverged(step, _seed=seed):
                     raise SimulationDiverged(f"ch2/table2_2/{model}", _seed, step, "loss")
 
-                r = train(spec, data, _train_cfg(cfg, model), key, rng, log=ctx.log,
-                          on_nan=diverged)
+                r = train(spec, data, tcfg, key, rng, log=ctx.log, on_nan=diverged)
                 ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
                              model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
                 test[di, ti, si] = r.test_error
@@ -165,15 +165,22 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     return ds
 
 
+#: Keys of ``ch2.train`` that a model section (``ch2.ffn_spn``, ``ch2.rnn_spn``) may override.
+MODEL_TRAIN_KEYS = {"loc_lr_scale": float, "max_epochs": int}
+
+
 def _train_cfg(cfg: dict, model: str) -> dict:
-    """The ``ch2.train`` section with the model's own ``loc_lr_scale`` where it sets one."""
-    own = cfg[model].get("loc_lr_scale")
-    return cfg["train"] if own is None else {**cfg["train"], "loc_lr_scale": float(own)}
+    """The ``ch2.train`` section with the model's own ``loc_lr_scale`` and ``max_epochs``
+    where its section sets them (null or absent = the shared value)."""
+    own = {k: cast(cfg[model][k]) for k, cast in MODEL_TRAIN_KEYS.items()
+           if cfg[model].get(k) is not None}
+    return {**cfg["train"], **own}
 
 
-def _loc_scales(cfg: dict, models) -> str:
-    """JSON ``{model: effective loc_lr_scale}`` for the dataset attributes."""
-    return json.dumps({m: float(_train_cfg(cfg, m).get("loc_lr_scale", 1.0)) for m in models},
+def _per_model(cfg: dict, models, key: str, default) -> str:
+    """JSON ``{model: effective ch2.train value of key}`` for the dataset attributes."""
+    cast = MODEL_TRAIN_KEYS[key]
+    return json.dumps({m: cast(_train_cfg(cfg, m).get(key, default)) for m in models},
                       sort_keys=True)
 
 
@@ -186,12 +193,12 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "n_test": int(meta.get("n_test", -1)),
         "canvas": int(meta.get("canvas", -1)),
         "digit_source": str(meta.get("digit_source", "")),
-        "max_epochs": int(cfg["train"]["max_epochs"]),
+        "max_epochs": _per_model(cfg, [model] if model else MODELS, "max_epochs", 0),
         "patience": int(cfg["train"]["patience"]),
         "batch_size": int(cfg["train"]["batch_size"]),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
-        "loc_lr_scale": _loc_scales(cfg, [model] if model else MODELS),
+        "loc_lr_scale": _per_model(cfg, [model] if model else MODELS, "loc_lr_scale", 1.0),
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
@@ -219,18 +226,19 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
         with xr.open_dataset(ctx.input(m), engine="h5netcdf") as f:
             parts.append(f.load())
     keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
-                                           "digit_source", "max_epochs", "patience",
+                                           "digit_source", "patience",
                                            "batch_size", "optimizer", "learning_rate",
                                            "chirpz_output",
                                            "none_shared_across_d")}
     for p in parts:
         p.attrs = {}
-    ds = xr.concat(parts, dim="model")
+    ds = xr.concat(parts, dim="model", join="outer")  # models may train different epochs
     ds.attrs.update(keep)
     ds.attrs["thesis_ref"] = "Tab. 2.2"
     ds.attrs["seeds"] = [int(s) for s in ctx.config["seeds"]]
     ds.attrs["widths"] = json.dumps({m: ctx.config[m] for m in MODELS}, sort_keys=True)
-    ds.attrs["loc_lr_scale"] = _loc_scales(ctx.config, MODELS)
+    ds.attrs["loc_lr_scale"] = _per_model(ctx.config, MODELS, "loc_lr_scale", 1.0)
+    ds.attrs["max_epochs"] = _per_model(ctx.config, MODELS, "max_epochs", 0)
     return ds
 
 

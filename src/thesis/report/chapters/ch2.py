@@ -8,12 +8,13 @@ shown is read from those datasets or from :mod:`thesis.paper`; a missing dataset
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
 
 from thesis import paper
-from thesis.report.format import fmt, mean_spread
+from thesis.report.format import mean_spread
 from thesis.report.model import NOT_RUN, Figure, Table
 
 MODELS = ("ffn_spn", "rnn_spn")
@@ -64,7 +65,7 @@ def tables(results: dict) -> list[Table]:
         a = ds.attrs
         note = (f"Reproduced: mean ± sd over seeds {[int(s) for s in np.atleast_1d(a.get('seeds', []))]}; "
                 f"{a.get('n_train')} training / {a.get('n_valid')} validation / "
-                f"{a.get('n_test')} test sequences, at most {a.get('max_epochs')} epochs "
+                f"{a.get('n_test')} test sequences, at most {_epochs(a.get('max_epochs'))} epochs "
                 f"(patience {a.get('patience')}), batch {a.get('batch_size')}, "
                 f"{a.get('optimizer')} lr {a.get('learning_rate')}; widths {a.get('widths')}; "
                 f"digits: {a.get('digit_source')}; d run: {[int(d) for d in ds['d'].values]} "
@@ -72,6 +73,17 @@ def tables(results: dict) -> list[Table]:
                 "trained once per model and seed, shown in every d row (thesis: ditto marks).")
     return [Table(id="table2_2", title="Per-digit test error on cluttered MNIST sequences",
                   thesis_ref="Tab. 2.2", columns=columns, rows=rows, note=note)]
+
+
+def _epochs(attr) -> str:
+    """The ``max_epochs`` attribute, a number or JSON ``{model: epochs}``, as text."""
+    try:
+        per = json.loads(attr) if isinstance(attr, str) else attr
+    except ValueError:
+        return str(attr)
+    if isinstance(per, dict):
+        return ", ".join(f"{LABEL.get(m, m)} {n}" for m, n in per.items()) or "?"
+    return str(per)
 
 
 def _curves(ds, outdir: Path) -> Figure | None:
