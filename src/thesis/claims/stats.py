@@ -207,6 +207,41 @@ def decide_beats(a, b, *, higher_is_better: bool, label_a: str = "a",
                    "the interval of the advantage includes 0")
 
 
+def decide_fewer_censored(a, a_done, b, b_done, *, label_a: str = "a",
+                          label_b: str = "b") -> Verdict:
+    """Decide "A needs less than B" (rule 4) from per-seed costs until success, some censored.
+
+    ``a[i]`` is what method A spent on seed i (iterations, evaluations or seconds): its
+    cost until success where ``a_done[i]``, else what it spent without succeeding, a lower
+    bound of its unknown cost (right-censored); likewise ``b``. A seed is *kept* when both
+    succeeded, or when one failed after spending at least what the other needed to succeed
+    (it lost that seed whatever its true cost). Seeds where both failed, or where the failed
+    side stopped before the other succeeded, tell nothing and are dropped. Rule 4
+    (:func:`decide_beats`, lower is better) on the kept seeds, with a failed side's spent
+    cost in place of its unknown one: that understates the failed side's cost, so a verdict
+    against a side with failures stands, while one in its favour is reported inconclusive.
+    """
+    a, b = np.asarray(a, float).ravel(), np.asarray(b, float).ravel()
+    ad, bd = np.asarray(a_done, bool).ravel(), np.asarray(b_done, bool).ravel()
+    ok = np.isfinite(a) & np.isfinite(b)
+    keep = ok & ((ad & bd) | (~ad & bd & (a >= b)) | (ad & ~bd & (b >= a)))
+    v = decide_beats(a[keep], b[keep], higher_is_better=False, label_a=label_a,
+                     label_b=label_b)
+    measured = {**v.measured, "n_seeds_run": int(a.size), "n_seeds_dropped": int((~keep).sum()),
+                f"{label_a}_failed_kept": int((keep & ~ad).sum()),
+                f"{label_b}_failed_kept": int((keep & ~bd).sum()),
+                f"{label_a}_succeeded": int(ad.sum()), f"{label_b}_succeeded": int(bd.sum())}
+    statistic = (v.statistic + "; a run that never succeeded counts with what it spent (a lower "
+                 "bound) on seeds where that is at least the other method's cost to success, "
+                 "seeds where both failed or the failed run stopped first are dropped")
+    favoured_failed = ((v.status == "reproduced" and (keep & ~ad).any())
+                       or (v.status == "not_reproduced" and (keep & ~bd).any()))
+    if favoured_failed:
+        return Verdict("inconclusive", measured, statistic,
+                       "the favoured method has failed runs, whose true cost is unknown")
+    return Verdict(v.status, measured, statistic, v.detail)
+
+
 def decide_equivalent(diff, *, margin: float, label: str = "difference") -> Verdict:
     """Decide "equivalent within ``margin``" from per-seed differences ``diff`` (rule 5)."""
     ci = bootstrap_mean(diff)
