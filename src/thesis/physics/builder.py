@@ -32,7 +32,7 @@ import numpy as np
 import jax.numpy as jnp
 
 from thesis.physics.math import quat_to_rot
-from thesis.physics.types import DofKind, GeomType, JointType, Model, ServoKind, State
+from thesis.physics.types import GeomType, JointType, ServoKind
 
 __all__ = ["Builder", "box_inertia", "sphere_inertia"]
 

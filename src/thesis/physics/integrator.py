@@ -15,7 +15,6 @@ energy).
 
 from __future__ import annotations
 
-import jax.numpy as jnp
 
 from thesis.physics.math import inv3, mm, mtv, mv, orthonormalize, rodrigues
 from thesis.physics.types import Model

@@ -11,7 +11,6 @@ smooth and finite-gradient everywhere in (-pi, pi).
 
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import jax.numpy as jnp
 
-from thesis.physics.types import DofKind, JointType, Model, ServoKind, State
+from thesis.physics.types import DofKind, JointType, Model, State
 from thesis.physics.builder import _ROW_MASK
 
 
