@@ -19,9 +19,10 @@ def xla_flags(jax_config: dict, flags: str = "") -> str:
     ``host_devices`` > 1 adds ``--xla_force_host_platform_device_count``;
     ``ynn_reduce_fusion: false`` (the default) adds :data:`YNN_REDUCE_OFF`: jaxlib 0.10's
     CPU backend lowers reductions into YNNPACK fusions, which on the engine's vmapped
-    solver (reductions over axes of 3-6 entries) cost ~5x XLA's own loops (measured on
-    the Tab. 7.1 quadruped, 64 robots per core: 429 -> 89 us per robot-step; a single
-    robot is unchanged). A flag the user already set is left alone.
+    solver (reductions over axes of 3-6 entries) cost ~4.5x XLA's own loops (measured on
+    the Tab. 7.1 quadruped, 64 robots per core: 423 -> 91 us per robot-step; a single
+    robot is unchanged at 128 us; ch2's training steps unchanged). A flag the user
+    already set is left alone.
     """
     out = flags.split()
     n = int(jax_config.get("host_devices", 1))
