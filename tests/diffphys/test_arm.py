@@ -86,3 +86,25 @@ def test_arm_holds_the_end_effector_at_the_fixed_target():
     # solver under the 32 kg load accounts for the rest)
     assert np.all(np.isfinite(dist))
     assert np.mean(dist[-last_s:]) < 0.04, dist[-last_s:].mean()
+
+
+def _shrinking_run(params, target):
+    """A stand-in episode whose error is |params| (Adam walks it down step by step)."""
+    err = jnp.sqrt(jnp.sum(params * params))
+    return err, err
+
+
+@pytest.mark.parametrize("stop", [True, False])
+def test_gradient_run_stops_at_the_first_error_below_every_threshold(stop):
+    cfg = {"learning_rate": 0.1, "clip_norm": 1.0, "evaluations": 40,
+           "thresholds_m": [0.5, 0.2], "stop_when_reached": stop}
+    with jax.numpy_dtype_promotion("standard"):  # optax mixes int and float internally
+        _, errors, _ = arm._gradient_fixed(_shrinking_run, jnp.asarray([1.0]), None, cfg,
+                                           "k", 0)
+    below = np.nonzero(errors < 0.2)[0]
+    assert below.size, errors  # Adam at 0.1 reaches 0.2 well within 40 evaluations
+    if stop:
+        assert len(errors) == below[0] + 1  # the run ends at its first error below 0.2
+    else:
+        assert len(errors) == 40
+    assert errors[0] == pytest.approx(1.0) and np.all(errors[:below[0]] >= 0.2)
