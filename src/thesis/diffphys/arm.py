@@ -185,7 +185,9 @@ def arm_fixed(ctx) -> xr.Dataset:
     target = jnp.asarray(cfg["target"], state0.pos.dtype)
     run_g = episode_fn(model, state0, n_steps, window, inputs="distance",
                        grad_decay=cfg["grad_decay"], remat=cfg["remat"])
-    run_f = episode_fn(model, state0, n_steps, window, inputs="distance")
+    # the CMA-ES population runs vmapped: the batched solver variant (Model.batched)
+    run_f = episode_fn(model.replace(batched=True), state0, n_steps, window,
+                       inputs="distance")
     sizes = [1, *cfg["hidden"], model.n_servo]
     methods = ["gradient"] + (["cmaes"] if cfg["cmaes"]["evaluations"] > 0 else [])
     res = {m: {"objective": [], "error": [], "wall": []} for m in methods}
@@ -276,6 +278,7 @@ def arm_random(ctx) -> xr.Dataset:
     dtype = state0.pos.dtype
 
     ee = model.body(EFFECTOR)
+    bmodel = model.replace(batched=True)  # the batch of targets runs vmapped
 
     def controller(params, sens, memory, t):
         return nets.mlp_apply(params, memory), memory
@@ -286,7 +289,7 @@ def arm_random(ctx) -> xr.Dataset:
         # mesh of sharding ... Auto passed to broadcast_in_dim", rollout.py), so the batch
         # runs on one core.
         def one(target):
-            return rollout(model, state0, controller, params, n_steps, memory0=target,
+            return rollout(bmodel, state0, controller, params, n_steps, memory0=target,
                            grad_decay=grad_decay, remat=remat, record=("body_pos",))[1]
         traj = jax.vmap(one)(targets)
         d = safe_norm(traj["body_pos"][:, :, ee] - targets[:, None], axis=-1)  # (B, T)

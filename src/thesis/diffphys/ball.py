@@ -221,7 +221,9 @@ def ball(ctx) -> xr.Dataset:
     err = errors_fn(model, state0, n_steps, cfg["target_xy"])
     tol_p, tol_v = float(cfg["tol_position_m"]), float(cfg["tol_velocity_mps"])
     gfns = gradient_fns(err, cfg["gradient"])
-    batch = jax.jit(jax.vmap(err))
+    # the CMA-ES population runs vmapped: the batched solver variant (Model.batched)
+    batch = jax.jit(jax.vmap(errors_fn(model.replace(batched=True), state0, n_steps,
+                                       cfg["target_xy"])))
     rows = {m: [] for m in ("gradient", "cmaes")}
     starts = []
     for s in seeds:

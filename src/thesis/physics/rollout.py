@@ -81,15 +81,19 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
     With ``jax.device_count() > 1`` and B divisible by the device count, the batch is
     split across the host devices (``shard_map`` over a 1-D mesh ``"batch"``). On each
     device the robots run ``chunk`` at a time (``jax.lax.map`` over chunks of a
-    ``jax.vmap``); ``chunk=None`` vmaps the whole local batch. The default ``chunk=1``
-    is a sequential map, kept so that existing results stay as they were: with the
-    profile's XLA flags (``thesis.jaxsetup.xla_flags``) ``chunk=None`` is faster on CPU
-    too (64 robots on one core, per robot-step: Tab. 7.1 quadruped 93 vs 128 us, Oncilla
-    159 vs 213 us; Nov 2026); without them a vmapped robot costs ~3x a sequential one.
-    ``memory0`` is shared unless ``batch_memory=True``. Returns ``(final_states, trajectories)`` with a leading batch
-    axis; results equal ``jax.vmap(rollout)`` up to float round-off.
+    ``jax.vmap``); ``chunk=None`` vmaps the whole local batch. Vmapped chunks run the
+    solver's batched variant (``Model.batched``). The default ``chunk=1`` is a sequential
+    map, kept so that existing results stay bit-for-bit; with the profile's XLA flags
+    (``thesis.jaxsetup.xla_flags``) ``chunk=None`` is the faster choice on CPU too
+    (64 robots on one core, engine alone, per robot-step: Tab. 7.1 quadruped 93 vs 128 us,
+    Oncilla 159 vs 213 us; Nov 2026; before those flags a vmapped robot cost ~3x a
+    sequential one). ``memory0`` is shared
+    unless ``batch_memory=True``. Returns ``(final_states, trajectories)`` with a leading
+    batch axis; results equal ``jax.vmap(rollout)`` up to float round-off.
     """
     mem_axis = 0 if batch_memory else None
+    if chunk != 1:  # vmapped: the solver's batched variant (Model.batched)
+        model = model.replace(batched=True)
 
     def one(s, mm):
         return rollout(model, s, controller, params, n_steps, memory0=mm, **kwargs)

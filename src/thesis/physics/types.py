@@ -144,6 +144,13 @@ class Model(_Replace):
         material_names, plane_names.
         geom_type (G,) GeomType, geom_body (G,) (-1 world), geom_texture (G,) (-1 none).
         camera_names, camera_body (C,) (-1 world), camera_pixels ((px_w, px_h), ...).
+        batched: the step runs under ``jax.vmap`` over a batch of robots (default False).
+            Selects how the solver adds impulses back onto bodies: a scatter-add
+            (``segment_sum``, fastest for one robot) or, when batched, a product with a
+            static one-hot matrix (a vmapped scatter-add is a slow strided loop on CPU;
+            Tab. 7.1 bench, batch 128 over two cores, median of 3: forward 6.56 -> 5.12 s,
+            with gradient 31.3 -> 30.3 s; one robot, unbatched, would slow from 127 to
+            304 us per step). Results agree up to float round-off.
 
     Traced (jax.Array):
         dt: () time step [s]. gravity: (3,) [m/s^2]. warm_start: () fraction of last
@@ -181,7 +188,7 @@ class Model(_Replace):
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
         "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
-        "camera_names", "camera_body", "camera_pixels",
+        "camera_names", "camera_body", "camera_pixels", "batched",
     )
 
     name: str
@@ -221,6 +228,7 @@ class Model(_Replace):
     camera_names: tuple
     camera_body: np.ndarray
     camera_pixels: tuple
+    batched: bool = False
 
     dt: Any
     gravity: Any
