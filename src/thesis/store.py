@@ -29,7 +29,7 @@ RESULTS_DIR = Path("results")
 PROVENANCE_ATTRS = (
     "thesis_ref", "profile", "experiment", "config_sha256", "config_json", "git_commit",
     "git_dirty", "seeds", "python_version", "jax_version", "jaxlib_version",
-    "numpy_version", "xarray_version", "package_versions", "host", "started",
+    "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "started",
     "wall_seconds",
 )
 
@@ -111,6 +111,8 @@ def provenance_attrs(*, profile: str, experiment: str, config_slice: Any,
         "xarray_version": versions["xarray"],
         "package_versions": canonical_json(versions),
         "host": provenance.host(),
+        # the ISA and reduction flags change the last bits of every XLA result
+        "xla_flags": os.environ.get("XLA_FLAGS", ""),
         "started": started.astimezone(timezone.utc).isoformat(timespec="seconds"),
         "wall_seconds": float(wall_seconds),
         "Conventions": "CF-1.10",

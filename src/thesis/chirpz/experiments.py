@@ -91,6 +91,14 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
     return data, meta
 
 
+#: Smoke-regression tolerance of the error rates (``thesis.regression``): XLA's convolutions
+#: round differently on different CPUs, and a few test digits flip. Measured on the smoke
+#: profile, an AVX2 against an AVX-512 machine (Nov 2026, also with ``jax.max_isa``
+#: AVX2): test error by up to 0.027 (8 of 300 digits), validation error by 0.02, best
+#: epoch by 1, while the training loss agrees to 4e-4 relative and stays the tight guard.
+_COUNT_TOLERANCE = {"regression_atol": 0.06}
+
+
 def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     from thesis.chirpz.train import train
     from thesis.errors import SimulationDiverged
@@ -142,15 +150,18 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     ds = xr.Dataset(
         {
             "test_error": (dims, test, {"units": "1", "long_name":
-                           "per-digit test error of the best-validation parameters"}),
+                           "per-digit test error of the best-validation parameters",
+                           **_COUNT_TOLERANCE}),
             "valid_error": (cdims, curves["valid_error"], {"units": "1", "long_name":
-                            "per-digit validation error after each epoch"}),
+                            "per-digit validation error after each epoch",
+                            **_COUNT_TOLERANCE}),
             "train_loss": (cdims, curves["train_loss"], {"units": "nat", "long_name":
                            "mean training cross-entropy per digit over the epoch"}),
             "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
                               "learning rate used in the epoch"}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
-                           "epoch of the lowest validation error (1-based)"}),
+                           "epoch of the lowest validation error (1-based)",
+                           "regression_atol": 1.0}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
                               "wall time of the training run, compilation included"}),
             "n_params": (("d", "transform"), nparams, {"units": "1", "long_name":
