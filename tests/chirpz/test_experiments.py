@@ -1,6 +1,7 @@
 """End-to-end tests of the registered ch2 experiments on tiny configurations."""
 
 import copy
+import dataclasses
 import json
 import logging
 
@@ -46,20 +47,32 @@ def test_generator_file(tiny):
     assert not list(data.parent.glob(".*.tmp"))  # atomic write left nothing behind
 
 
-def test_table2_2_parts_and_join(tiny):
+@pytest.fixture(scope="module")
+def model_parts(tiny):
+    """Both model parts over seeds 0 and 1, written to netCDF: {model: (dataset, path)}."""
     ctx, tmp, data = tiny
-    paths = {}
+    out = {}
     for m in ("ffn_spn", "rnn_spn"):
         ds = registry.resolve(f"ch2/table2_2_{m}")(ctx(f"ch2/table2_2_{m}", inputs={"data": data}))
+        path = tmp / f"{m}.nc"
+        ds.to_netcdf(path, engine="h5netcdf")
+        out[m] = (ds, path)
+    return out
+
+
+def test_table2_2_parts_and_join(tiny, model_parts):
+    ctx, tmp, data = tiny
+    paths = {}
+    for m, (ds, path) in model_parts.items():
         assert ds["test_error"].dims == ("model", "d", "transform", "seed")
         assert ds.sizes["epoch"] == {"ffn_spn": 3, "rnn_spn": 2}[m]  # the model's own limit
         te = ds["test_error"].values
         assert np.all((te >= 0) & (te <= 1))
         # "none" does not down-sample: one run per seed, repeated under every d
         np.testing.assert_array_equal(te[0, 0, 1], te[0, 1, 1])
-        assert ds["n_params"].sel(transform="chirp_z", d=2) > ds["n_params"].sel(transform="chirp_z", d=3)
-        paths[m] = tmp / f"{m}.nc"
-        ds.to_netcdf(paths[m], engine="h5netcdf")
+        n_cz = ds["n_params"].sel(transform="chirp_z")
+        assert n_cz.sel(d=2) > n_cz.sel(d=3)
+        paths[m] = path
     joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=paths))
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]
     assert joined.attrs["thesis_ref"] == "Tab. 2.2"
@@ -74,6 +87,37 @@ def test_table2_2_parts_and_join(tiny):
     assert joined["test_error"].attrs["units"] == "1"
     assert joined["valid_error"].dims[-1] == "epoch"
     assert np.isfinite(joined["valid_error"].isel(epoch=0)).all()
+
+
+def test_table2_2_joins_one_job_per_seed(tiny, model_parts):
+    """The workflow's per-seed jobs (``--set ch2.seeds=[s]``) give the numbers of one job
+    over every seed, and the join puts them back in the profile's seed order."""
+    ctx, tmp, data = tiny
+    full = registry.resolve("ch2/table2_2")(
+        ctx("ch2/table2_2", inputs={m: p for m, (_, p) in model_parts.items()}))
+    inputs = {}
+    for m, (ds, _) in model_parts.items():
+        base = ctx(f"ch2/table2_2_{m}", inputs={"data": data})
+        one = copy.deepcopy(base.config)
+        one["seeds"] = [1]  # seed 1 trained alone, in its own "job"
+        alone = registry.resolve(f"ch2/table2_2_{m}")(dataclasses.replace(base, config=one))
+        assert list(alone["seed"].values) == [1]
+        np.testing.assert_allclose(alone["test_error"].values,
+                                   ds["test_error"].sel(seed=[1]).values, atol=1e-6)
+        np.testing.assert_allclose(alone["train_loss"].values,
+                                   ds["train_loss"].sel(seed=[1]).values, rtol=1e-5)
+        for s, part in ((1, alone), (0, ds.sel(seed=[0]))):  # given out of order
+            inputs[f"{m}_seed{s}"] = tmp / f"{m}_seed{s}.nc"
+            part.to_netcdf(inputs[f"{m}_seed{s}"], engine="h5netcdf")
+    joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=inputs))
+    assert list(joined["seed"].values) == [0, 1]
+    for name in ("test_error", "valid_error", "best_epoch", "n_params"):
+        np.testing.assert_array_equal(joined[name].values, full[name].values, err_msg=name)
+        assert joined[name].attrs == full[name].attrs, name
+    assert joined.attrs["n_train"] == full.attrs["n_train"]
+    del inputs["rnn_spn_seed1"]
+    with pytest.raises(KeyError, match="rnn_spn_seed1"):
+        registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=inputs))
 
 
 def test_model_sections_override_train():

@@ -1,10 +1,31 @@
 # Chapter 2: chirp-Z spatial transformer networks on cluttered MNIST sequences.
 #
-# cluttered_mnist -> table2_2_{ffn_spn,rnn_spn} (one job per model, every d, transform
-# and seed; the two halves run side by side) -> table2_2 (joined along `model`).
+# cluttered_mnist -> table2_2_{ffn_spn,rnn_spn} (one job per model and seed, every d and
+# transform; parts/ holds them) -> table2_2 (joined along `seed` and `model`).
 # chirpz_scaling is the §2.4 benchmark (also `thesis bench chirpz`).
+#
+# One job per seed: the ten default-profile jobs pack onto two cores (the longer RNN-SPN
+# jobs first, `priority`) instead of one FFN-SPN and one RNN-SPN job that end far apart,
+# spread over a cluster's nodes (profiles/slurm), and adding a seed reruns only that seed
+# (a part's params leave `ch2.seeds` out; its seed is in its path).
 
 from thesis.chirpz.data import training_memory_mb
+from thesis.chirpz.experiments import MODELS as CH2_MODELS
+
+CH2_SEEDS = [int(s) for s in config["ch2"]["seeds"]]
+
+
+def ch2_part(model, seed):
+    """results/<profile>/ch2/parts/table2_2_<model>_seed<seed>.nc (not a result of its own:
+    the claims, report and regression read the joined table)."""
+    return f"results/{PROFILE}/ch2/parts/table2_2_{model}_seed{seed}.nc"
+
+
+def ch2_part_cfg(model):
+    """cfg_slice of a model part without the seed list (each job names its own seed)."""
+    c = config_slice(config, f"ch2/table2_2_{model}")
+    c["ch2"].pop("seeds", None)
+    return json.dumps(c, sort_keys=True)
 
 
 rule ch2_cluttered_mnist:
@@ -27,45 +48,50 @@ rule ch2_cluttered_mnist:
         "{THESIS} run ch2/cluttered_mnist --profile {PROFILE} --output {output.data} > {log} 2>&1"
 
 
-for _model in ["ffn_spn", "rnn_spn"]:
+for _model in CH2_MODELS:
 
     rule:
         name:
             f"ch2_table2_2_{_model}"
         message:
-            f"Training {_model} for every cell of Tab. 2.2, profile {PROFILE}"
+            f"Training {_model} for every d and transform of Tab. 2.2, seed {{wildcards.seed}}, "
+            f"profile {PROFILE}"
         input:
             data=rules.ch2_cluttered_mnist.output.data,
         output:
-            nc=result("ch2", f"table2_2_{_model}"),
+            nc=ch2_part(_model, "{seed}"),
+        wildcard_constraints:
+            seed=r"\d+",
         params:
-            cfg=cfg_slice(f"ch2/table2_2_{_model}"),
+            cfg=ch2_part_cfg(_model),
             code=code_of("ch2"),
             key=f"ch2/table2_2_{_model}",
         log:
-            log_path("ch2", f"table2_2_{_model}"),
+            log_path("ch2", f"table2_2_{_model}_seed{{seed}}"),
         benchmark:
-            bench_path("ch2", f"table2_2_{_model}")
+            bench_path("ch2", f"table2_2_{_model}_seed{{seed}}")
+        # RNN-SPN's jobs are the longer ones (~1.5x): started first, the jobs end together
+        priority: 1 if _model == "rnn_spn" else 0
         threads: 1
         resources:
             mem_mb=training_memory_mb(config["ch2"]["data"]),
             runtime=600,
         shell:
-            "{THESIS} run {params.key} --profile {PROFILE} "
+            "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
             "--input data={input.data} --output {output.nc} > {log} 2>&1"
 
 
 rule ch2_table2_2:
     message:
-        "Joining the two halves of Tab. 2.2, profile {PROFILE}"
+        "Joining the parts of Tab. 2.2 (every model and seed), profile {PROFILE}"
     input:
-        ffn_spn=result("ch2", "table2_2_ffn_spn"),
-        rnn_spn=result("ch2", "table2_2_rnn_spn"),
+        **{f"{m}_seed{s}": ch2_part(m, s) for m in CH2_MODELS for s in CH2_SEEDS},
     output:
         nc=result("ch2", "table2_2"),
     params:
         cfg=cfg_slice("ch2/table2_2"),
         code=code_of("ch2"),
+        inputs=lambda wc, input: " ".join(f"--input {k}={v}" for k, v in input.items()),
     log:
         log_path("ch2", "table2_2"),
     benchmark:
@@ -75,8 +101,8 @@ rule ch2_table2_2:
         mem_mb=2000,
         runtime=10,
     shell:
-        "{THESIS} run ch2/table2_2 --profile {PROFILE} --input ffn_spn={input.ffn_spn} "
-        "--input rnn_spn={input.rnn_spn} --output {output.nc} > {log} 2>&1"
+        "{THESIS} run ch2/table2_2 --profile {PROFILE} {params.inputs} "
+        "--output {output.nc} > {log} 2>&1"
 
 
 rule ch2_chirpz_scaling:

@@ -10,7 +10,8 @@ Modules (one job each):
 - :mod:`~thesis.chirpz.nets`: FFN-SPN and RNN-SPN of Tab. 2.1 in plain JAX;
 - :mod:`~thesis.chirpz.train`: the training loop (§2.5, FACTS §3.2);
 - :mod:`~thesis.chirpz.experiments`: the registered experiments ``ch2/cluttered_mnist``,
-  ``ch2/table2_2_ffn_spn``, ``ch2/table2_2_rnn_spn``, ``ch2/table2_2`` and
+  ``ch2/table2_2_ffn_spn``, ``ch2/table2_2_rnn_spn`` (one model's part; the workflow runs
+  one job per model and seed), ``ch2/table2_2`` (the parts joined) and
   ``ch2/chirpz_scaling`` (``thesis bench chirpz``).
 """
 

@@ -3,8 +3,11 @@
 - ``ch2/cluttered_mnist`` (generator): writes the HDF5 file of cluttered MNIST sequences
   (:mod:`thesis.chirpz.data`) to ``ctx.output`` atomically.
 - ``ch2/table2_2_ffn_spn`` / ``ch2/table2_2_rnn_spn``: one model's part of Tab. 2.2 (all
-  d and transforms, every seed); two jobs so that the two halves can run side by side.
-- ``ch2/table2_2``: concatenates the two parts along ``model`` (Tab. 2.2).
+  d and transforms, for ``ch2.seeds``); the workflow runs one job per model and seed
+  (``--set ch2.seeds=[s]``), so that the jobs pack onto the cores or spread over a cluster.
+  Every seed draws its own key and shuffling streams, so a seed's numbers do not depend on
+  which other seeds share its job.
+- ``ch2/table2_2``: joins the parts along ``seed`` and ``model`` (Tab. 2.2).
 - ``ch2/chirpz_scaling``: forward and forward+backward time of the chirp-Z layer and the
   bilinear sampler against image size; fitted exponent of the cost against n² log n (§2.4).
 
@@ -17,6 +20,7 @@ from __future__ import annotations
 
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -226,16 +230,40 @@ def table2_2_rnn_spn(ctx: RunContext) -> xr.Dataset:
     return _model_part(ctx, "rnn_spn")
 
 
+def _model_parts(ctx: RunContext, model: str) -> list[Path]:
+    """Input files of ``model``'s part: one named ``<model>`` (every seed) or one per seed
+    named ``<model>_seed<s>``, for the seeds ``ch2.seeds`` lists (a missing one is an error)."""
+    if model in ctx.inputs:
+        return [ctx.input(model)]
+    return [ctx.input(f"{model}_seed{int(s)}") for s in ctx.config["seeds"]]
+
+
+def _read_model(ctx: RunContext, model: str) -> xr.Dataset:
+    """``model``'s part over the profile's seeds, joined along ``seed`` from its input files."""
+    parts = []
+    for path in _model_parts(ctx, model):
+        with xr.open_dataset(path, engine="h5netcdf") as f:
+            parts.append(f.load())
+    ds = parts[0] if len(parts) == 1 else xr.concat(  # attributes: the first part's
+        parts, dim="seed", data_vars="minimal", coords="minimal", compat="equals",
+        combine_attrs="override")
+    seeds = [int(s) for s in ctx.config["seeds"]]
+    if sorted(int(s) for s in ds["seed"].values) != sorted(seeds):
+        raise ValueError(f"ch2/table2_2: {model} parts hold seeds {ds['seed'].values.tolist()}, "
+                         f"the profile's ch2.seeds are {seeds}")
+    return ds.sel(seed=seeds)
+
+
 def table2_2(ctx: RunContext) -> xr.Dataset:
-    """Tab. 2.2: the two model parts (inputs ``ffn_spn`` and ``rnn_spn``) joined on ``model``.
+    """Tab. 2.2: the model parts joined on ``seed`` and ``model``.
+
+    Inputs: ``ffn_spn`` and ``rnn_spn`` (each a part over every seed), or
+    ``<model>_seed<s>`` for every model and seed of ``ch2.seeds`` (one job's part each).
 
     Variables: test_error (model, d, transform, seed) [fraction], valid_error, train_loss
     and learning_rate over epoch, best_epoch, train_seconds, n_params.
     """
-    parts = []
-    for m in MODELS:
-        with xr.open_dataset(ctx.input(m), engine="h5netcdf") as f:
-            parts.append(f.load())
+    parts = [_read_model(ctx, m) for m in MODELS]
     keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
                                            "digit_source", "patience",
                                            "batch_size", "optimizer", "learning_rate",
