@@ -120,6 +120,34 @@ def test_table2_2_joins_one_job_per_seed(tiny, model_parts):
         registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=inputs))
 
 
+@pytest.mark.parametrize("model", ["ffn_spn", "rnn_spn"])
+def test_transforms_share_a_seed_s_initial_weights(model):
+    """Common random numbers: seed s starts every spatial transform of a model and d from
+    the same weights (but for the localisation output layer, which sizes the transform)."""
+    import jax
+
+    from thesis import seeding
+    from thesis.chirpz.experiments import _spec, _stream
+    from thesis.chirpz.nets import init_net
+
+    cfg = load_config("smoke")["ch2"]
+    inits = {}
+    for t in ("bilinear", "bilinear_no_skew", "chirp_z", "none"):
+        key = seeding.key(2018, _stream(model, t, 2), 1)
+        inits[t] = init_net(key, _spec(cfg, model, t, 2, 60, 3))
+    same = jax.tree.map(np.array_equal, inits["chirp_z"], inits["bilinear_no_skew"])
+    assert all(jax.tree.leaves(same))
+    six = {k: v for k, v in inits["bilinear"].items() if k != "loc_out"}
+    four = {k: v for k, v in inits["chirp_z"].items() if k != "loc_out"}
+    assert all(jax.tree.leaves(jax.tree.map(np.array_equal, six, four)))
+    assert inits["bilinear"]["loc_out"]["b"].shape == (6,)
+    # another seed draws other weights
+    other = init_net(seeding.key(2018, _stream(model, "chirp_z", 2), 2),
+                     _spec(cfg, model, "chirp_z", 2, 60, 3))
+    assert not np.array_equal(other["cls_dense"]["w"], inits["chirp_z"]["cls_dense"]["w"])
+    assert _stream(model, "none", 3) == _stream(model, "chirp_z", 1)  # "none" is stored at d=1
+
+
 def test_model_sections_override_train():
     from thesis.chirpz.experiments import _train_cfg
 

@@ -7,6 +7,16 @@
   (``--set ch2.seeds=[s]``), so that the jobs pack onto the cores or spread over a cluster.
   Every seed draws its own key and shuffling streams, so a seed's numbers do not depend on
   which other seeds share its job.
+
+Common random numbers: seed s of a model and d gives every spatial transform the same
+initial weights (the three differ only in the localisation network's zero-initialised
+output layer, whose bias is each transform's identity), the same minibatch order and the
+same dropout masks (:func:`_stream` leaves the transform out). The ch2 claims compare
+transforms by per-seed differences, which then measure the transforms, not three
+independent initialisations. Before (streams named by transform; Nov 2026), FFN-SPN
+chirp-Z seed 1 started far slower than any other cell (test error .333-.352 against
+no-skew's .185-.206) and dominated both "chirp-Z performs like" comparisons, whose per-seed
+pairing then paired nothing.
 - ``ch2/table2_2``: joins the parts along ``seed`` and ``model`` (Tab. 2.2).
 - ``ch2/chirpz_scaling``: forward and forward+backward time of the chirp-Z layer and the
   bilinear sampler against image size; fitted exponent of the cost against n² log n (§2.4).
@@ -131,7 +141,9 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 continue
             spec = _spec(cfg, model, tname, d, canvas, n_digits)
             for si, seed in enumerate(seeds):
-                stream = f"ch2/table2_2/{model}/{tname}/d={d if tname != 'none' else 1}"
+                # common random numbers: the streams name the model, d and seed but not
+                # the transform (module docstring)
+                stream = _stream(model, tname, d)
                 key = seeding.key(ctx.root_seed, stream, seed)
                 rng = seeding.rng(ctx.root_seed, stream + "/shuffle", seed)
 
@@ -180,6 +192,15 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     return ds
 
 
+def _stream(model: str, transform: str, d: int) -> str:
+    """Name of the random streams (initialisation and dropout key, shuffling) of one cell.
+
+    Shared by the transforms of a model and d (common random numbers, module docstring);
+    "none" does not down-sample, so its cell is named d=1 whatever d it is stored under.
+    """
+    return f"ch2/table2_2/{model}/d={d if transform != 'none' else 1}"
+
+
 #: Keys of ``ch2.train`` that a model section (``ch2.ffn_spn``, ``ch2.rnn_spn``) may override.
 MODEL_TRAIN_KEYS = {"loc_lr_scale": float, "max_epochs": int}
 
@@ -217,6 +238,9 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
+        "seed_streams": (f"{_stream('<model>', 'any', '<d>')} (initialisation, dropout) and "
+                         "its /shuffle, per seed: shared by the transforms of a model and d "
+                         "(common random numbers)"),
     }
 
 
@@ -268,7 +292,7 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
                                            "digit_source", "patience",
                                            "batch_size", "optimizer", "learning_rate",
                                            "chirpz_output",
-                                           "none_shared_across_d")}
+                                           "none_shared_across_d", "seed_streams")}
     for p in parts:
         p.attrs = {}
     ds = xr.concat(parts, dim="model", join="outer")  # models may train different epochs
