@@ -7,6 +7,13 @@
   (``--set ch2.seeds=[s]``), so that the jobs pack onto the cores or spread over a cluster.
   Every seed draws its own key and shuffling streams, so a seed's numbers do not depend on
   which other seeds share its job.
+- ``ch2/table2_2``: joins the parts along ``seed`` and ``model`` (Tab. 2.2).
+- ``ch2/chirpz_scaling``: forward and forward+backward time of the chirp-Z layer and the
+  bilinear sampler against image size; fitted exponent of the cost against n² log n (§2.4).
+
+The "none" transform has no down-sampling (§2.5, approach 4), so it is trained once per
+seed and model and its result is stored under every d (the thesis prints it once, with
+ditto marks); the attribute ``none_shared_across_d`` says so.
 
 Common random numbers: seed s of a model and d gives every spatial transform the same
 initial weights (the three differ only in the localisation network's zero-initialised
@@ -17,13 +24,6 @@ independent initialisations. Before (streams named by transform; Nov 2026), FFN-
 chirp-Z seed 1 started far slower than any other cell (test error .333-.352 against
 no-skew's .185-.206) and dominated both "chirp-Z performs like" comparisons, whose per-seed
 pairing then paired nothing.
-- ``ch2/table2_2``: joins the parts along ``seed`` and ``model`` (Tab. 2.2).
-- ``ch2/chirpz_scaling``: forward and forward+backward time of the chirp-Z layer and the
-  bilinear sampler against image size; fitted exponent of the cost against n² log n (§2.4).
-
-The "none" transform has no down-sampling (§2.5, approach 4), so it is trained once per
-seed and model and its result is stored under every d (the thesis prints it once, with
-ditto marks); the attribute ``none_shared_across_d`` says so.
 """
 
 from __future__ import annotations
@@ -238,9 +238,9 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "chirpz_output": str(cfg["chirpz_output"]),
         "widths": json.dumps({m: cfg[m] for m in ([model] if model else MODELS)}, sort_keys=True),
         "none_shared_across_d": 1,
-        "seed_streams": (f"{_stream('<model>', 'any', '<d>')} (initialisation, dropout) and "
-                         "its /shuffle, per seed: shared by the transforms of a model and d "
-                         "(common random numbers)"),
+        "seed_streams": ("ch2/table2_2/<model>/d=<d> (initialisation, dropout) and its "
+                         "/shuffle, per seed: shared by the transforms of a model and d "
+                         "(common random numbers, _stream)"),
     }
 
 
