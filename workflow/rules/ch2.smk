@@ -18,7 +18,7 @@ CH2_SEEDS = [int(s) for s in config["ch2"]["seeds"]]
 def ch2_part(model, seed):
     """results/<profile>/ch2/parts/table2_2_<model>_seed<seed>.nc (not a result of its own:
     the claims, report and regression read the joined table)."""
-    return f"results/{PROFILE}/ch2/parts/table2_2_{model}_seed{seed}.nc"
+    return result("ch2", f"parts/table2_2_{model}_seed{seed}")
 
 
 def ch2_part_cfg(model):
