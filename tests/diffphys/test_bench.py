@@ -33,7 +33,7 @@ def test_controller_sizes_are_the_thesis_counts(quad):
     for sizes in (small, large):
         w = be.init_controller(jax.random.key(0), sizes)
         assert sum(int(x.size) for x in w) == be.count_params(sizes)
-        assert [x.shape for x in w] == list(zip(sizes[:-1], sizes[1:]))
+        assert [x.shape for x in w] == list(zip(sizes[1:], sizes[:-1]))  # (out, in)
 
 
 def test_sensor_vector_reads_the_chosen_imu(quad):
@@ -150,7 +150,8 @@ def test_mjcf_of_a_tilted_limited_chain_matches_the_engine():
     assert abs(up[3:] - [0, 0, 1]).max() > 0.1  # the tilted link reads a tilt
     acc = mujoco.MjModel.from_xml_string(
         model_to_mjcf(model, state, imu_bodies=[0, 1], imu="accelerometer"))
-    assert [int(t) for t in acc.sensor_type[2:4]] == [int(mujoco.mjtSensor.mjSENS_ACCELEROMETER)] * 2
+    acc_type = int(mujoco.mjtSensor.mjSENS_ACCELEROMETER)
+    assert [int(t) for t in acc.sensor_type[2:4]] == [acc_type] * 2
     with pytest.raises(ValueError, match="imu must be"):
         model_to_mjcf(model, state, imu_bodies=[0], imu="magnetometer")
 

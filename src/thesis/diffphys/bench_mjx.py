@@ -100,7 +100,7 @@ def mujoco_c_forward(mm, servo, weights, qvel0, n_servo, n_memory, n_steps, nthr
     mujoco, _ = require_mujoco()
     from mujoco import rollout
 
-    w = [np.asarray(x, np.float32) for x in weights]
+    w = [np.asarray(x, np.float32).T for x in weights]  # (n_in, n_out) for a row batch
     batch = qvel0.shape[0]
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     datas = [mujoco.MjData(mm) for _ in range(max(1, nthread))]
