@@ -134,6 +134,29 @@ def test_quadruped_gait():
     assert v.status == "inconclusive" and "run ended" in v.detail
 
 
+def _trot(speeds, upright):
+    ok = np.array(upright, np.int8)
+    v = np.array(speeds, float)
+    best = float(np.max(np.where(ok == 1, v, -np.inf))) if ok.any() else float("nan")
+    return xr.Dataset({"trot_speed": ("trot", v), "trot_is_trot": ("trot", ok),
+                       "hand_tuned_speed": ((), best), "hand_tuned_upright": ((), ok.sum())},
+                      coords={"trot": np.arange(len(v))})
+
+
+def test_hand_tuned_trot():
+    fast = _trot([0.2, 0.75, 0.9], [1, 1, 0])  # the 0.9 m/s one fell over: not a trot
+    v = check("ch7.hand_tuned_trot", quadruped_gait=fast)
+    assert v.status == "reproduced" and v.measured["hand_tuned_speed"] == 0.75
+    slow = _trot([0.2, 0.4, 0.9], [1, 1, 0])
+    v = check("ch7.hand_tuned_trot", quadruped_gait=slow)
+    assert v.status == "not_reproduced" and "3 trots (2 upright)" in v.detail
+    fallen = _trot([0.2, 0.9], [0, 0])
+    v = check("ch7.hand_tuned_trot", quadruped_gait=fallen)
+    assert v.status == "not_reproduced" and "none of the 2" in v.detail
+    old = xr.Dataset({"speed": (("seed", "evaluation"), np.zeros((1, 2)))})
+    assert check("ch7.hand_tuned_trot", quadruped_gait=old).status == "not_run"
+
+
 def _pendulum(first_held, stays_up_s, time_to_up_s, test_s=60.0, episodes=100):
     succ = np.zeros((3, episodes))
     for i, e in enumerate(first_held):

@@ -24,7 +24,10 @@ TINY = {
     "arm_random": {"seeds": [0], "episode_s": 0.2, "eval_window_s": 0.05, "hidden": [4],
                    "batch": 2, "updates": 1, "test_batch": 2, "eval_every": 1},
     "gait": {"seeds": [0], "episode_s": 0.2, "hidden": [4, 4], "evaluations": 1, "frames": 2,
-             "frame_pixels": [16, 12]},
+             "frame_pixels": [16, 12],
+             "trot": {"frequency_hz": [1.5], "hip_amplitude": [0.2, 0.4], "knee_amplitude": [0.2],
+                      "knee_phase": [0.0], "knee_offset": [0.0, 0.4], "max_tilt_deg": 60.0,
+                      "servo_torques": [40.0]}},
     "pendulum": {"seeds": [0], "pixels": [12, 4], "episode_s": 0.1, "episodes": 1,
                  "conv_channels": [], "hidden": [4], "hold_s": 0.05, "test_s": 0.2,
                  "frames": 2},
@@ -92,6 +95,19 @@ def test_gait_dataset_layout():
     # zero-output initial policy: the first evaluation is the standing robot
     assert abs(float(ds["speed"].values[0, 0])) < 0.05
     assert ds["frames"].shape == (2, 12, 16, 3) and ds["frames"].values.max() > 0
+    # the hand-tuned trot search: 2 x 2 configurations, every parameter recorded
+    both = ("trot_torque", "trot")
+    _has(ds, {"trot_speed": both, "trot_upright": both, "trot_is_trot": both,
+              "trot_hip_amplitude": ("trot",), "trot_knee_offset": ("trot",),
+              "hand_tuned_speed_by_torque": ("trot_torque",)})
+    assert ds.sizes["trot"] == 4 and ds["hand_tuned_speed"].attrs["units"] == "m/s"
+    assert ds["trot_torque"].values.tolist() == [4.0, 40.0]  # the gait's 4 N m and the sweep
+    assert sorted(set(ds["trot_hip_amplitude"].values)) == [0.2, 0.4]
+    at_gait = ds.sel(trot_torque=4.0)
+    up = at_gait["trot_is_trot"].values == 1
+    assert up.any()  # a 0.2-s episode cannot turn the robot over
+    assert float(ds["hand_tuned_speed"]) == at_gait["trot_speed"].values[up].max()
+    assert int(ds["hand_tuned_upright"]) == up.sum()
 
 
 def test_pendulum_dataset_layout():

@@ -110,19 +110,28 @@ def arm_random_table(results) -> Table:
 
 def gait_table(results) -> Table:
     ds = results.get("ch7/quadruped_gait")
-    got = [NOT_RUN] * 3
+    got = [NOT_RUN] * 4
     if ds is not None:
         got = [str(int(ds.attrs.get("evaluations", ds.sizes["evaluation"]))),
                mean_spread(ds["final_speed"].values),
-               mean_spread(ds["speed"].max("evaluation").values)]
+               mean_spread(ds["speed"].max("evaluation").values), NOT_RUN]
+        if "hand_tuned_speed" in ds:
+            got[3] = (f"{float(ds['hand_tuned_speed']):.3f} (best upright of "
+                      f"{ds.sizes['trot']} open-loop trots, {int(ds['hand_tuned_upright'])} "
+                      f"upright; {ds.attrs.get('hand_tuned_trot', '')})")
     rows = [["model evaluations", _paper("quadruped_gait/evaluations"), got[0]],
             ["speed after the evaluations [m/s]", _paper("quadruped_gait/evaluations=500/speed"),
              got[1]],
             ["best speed seen during training [m/s]", "—", got[2]],
-            ["hand-tuned trot [m/s]", _paper("quadruped_gait/hand_tuned_speed"), "—"]]
+            ["hand-tuned trot [m/s]", _paper("quadruped_gait/hand_tuned_speed"), got[3]]]
     note = "" if ds is None else _sizes(ds, ["network", "n_params", "episode_s", "dt",
                                              "servo_torque", "learning_rate", "grad_decay",
                                              "total_mass_kg"])
+    if ds is not None and "hand_tuned_speed_by_torque" in ds:
+        by = ds["hand_tuned_speed_by_torque"]
+        note += (" Best upright open-loop trot by servo torque bound: " + ", ".join(
+            f"{float(t):g} N m {float(v):.3f} m/s" for t, v in zip(by["trot_torque"].values,
+                                                                  by.values)) + ".")
     return Table(id="quadruped_gait", title="Quadruped gait learned through the engine",
                  thesis_ref="§7.3.3", columns=["quantity", "thesis", "reproduced"], rows=rows,
                  note=note)
