@@ -92,4 +92,4 @@ FIGURES["ch7"] = [
     "pendulum_learning",
     "pendulum_frames",
 ]
-TABLES["ch7"] = ["ball", "arm_fixed", "arm_random", "quadruped_gait", "pendulum_pixels"]
+TABLES["ch7"] = ["ball", "table7_1", "arm_fixed", "arm_random", "quadruped_gait", "pendulum_pixels"]

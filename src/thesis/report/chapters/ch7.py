@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from thesis import paper
+from thesis.paper import select
 from thesis.report.format import fmt, mean_spread
 from thesis.report.model import NOT_RUN, Figure, Table
 
@@ -154,10 +155,60 @@ def pendulum_table(results) -> Table:
                  rows=rows, note=note)
 
 
+def _cell(ds, engine=None, **coords):
+    """Seconds of one Tab. 7.1 cell (median over repeats where present), NaN if absent."""
+    if ds is None or "seconds" not in ds:
+        return float("nan")
+    da = ds["seconds"]
+    sel = {k: v for k, v in {**coords, "engine": engine}.items() if v is not None}
+    try:
+        da = da.sel(sel)
+    except (KeyError, ValueError):
+        return float("nan")
+    extra = list(da.dims)
+    return float(da.median(extra)) if extra else float(da)
+
+
+def table7_1_table(results) -> Table:
+    """Tab. 7.1: the thesis's CPU column, this engine and the MuJoCo MJX / MuJoCo C peers on
+    the same CPU (``ch7/table7_1_peers``, optional), with the MJX / engine ratio."""
+    ours, peers = results.get("ch7/table7_1"), results.get("ch7/table7_1_peers")
+    rows = []
+    for batch in (1, 128):
+        for n_params in (1296, 1147904):
+            for gradient in (0, 1):
+                at = dict(device="cpu", batch=batch, n_params=n_params, gradient=gradient)
+                sel = select("table7_1", "seconds", **at)
+                thesis = fmt(sel[0].value) if sel else "—"
+                eng = _cell(ours, **at)
+                mjx = _cell(peers, "mjx", **at)
+                c = _cell(peers, "mujoco_c", **at)
+                finite = ""
+                if peers is not None and gradient and "gradient_finite" in peers:
+                    try:
+                        ok = float(peers["gradient_finite"].sel(engine="mjx", **at).max())
+                        finite = "" if ok == 1.0 else " (gradient NaN)"
+                    except (KeyError, ValueError):
+                        finite = ""
+                show = (lambda v: NOT_RUN if not np.isfinite(v) else f"{v:.3g}")  # noqa: E731
+                ratio = (f"{mjx / eng:.2f}" if np.isfinite(mjx) and np.isfinite(eng) and eng > 0
+                         else NOT_RUN)
+                rows.append([str(batch), f"{n_params:,}", "yes" if gradient else "no",
+                             thesis, show(eng), show(mjx) + (finite if np.isfinite(mjx) else ""),
+                             ratio, show(c) if not gradient else "—"])
+    note = ("Seconds to simulate the batch for 10 model seconds on this machine's CPU; the "
+            "thesis's column is its 6-core i7 5930K. MJX / engine below 1: MJX is faster. "
+            "Peers come from the optional `table7_1_peers` benchmark (`bench` extra).")
+    return Table(id="table7_1", title="Tab. 7.1: engine speed beside MuJoCo MJX and MuJoCo C",
+                 thesis_ref="Tab. 7.1",
+                 columns=["robots", "parameters", "gradient", "thesis CPU [s]", "engine [s]",
+                          "MJX [s]", "MJX / engine", "MuJoCo C [s]"], rows=rows, note=note)
+
+
 def tables(results) -> list[Table]:
-    """The five chapter-7 tables (thesis beside reproduced)."""
-    return [ball_table(results), arm_fixed_table(results), arm_random_table(results),
-            gait_table(results), pendulum_table(results)]
+    """The six chapter-7 tables (thesis beside reproduced)."""
+    return [ball_table(results), table7_1_table(results), arm_fixed_table(results),
+            arm_random_table(results), gait_table(results), pendulum_table(results)]
 
 
 # ----------------------------------------------------------------------------- figures
