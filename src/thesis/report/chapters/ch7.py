@@ -174,28 +174,27 @@ def table7_1_table(results) -> Table:
     the same CPU (``ch7/table7_1_peers``, optional), with the MJX / engine ratio."""
     ours, peers = results.get("ch7/table7_1"), results.get("ch7/table7_1_peers")
     rows = []
-    for batch in (1, 128):
-        for n_params in (1296, 1147904):
-            for gradient in (0, 1):
-                at = dict(device="cpu", batch=batch, n_params=n_params, gradient=gradient)
-                sel = select("table7_1", "seconds", **at)
-                thesis = fmt(sel[0].value) if sel else "—"
-                eng = _cell(ours, **at)
-                mjx = _cell(peers, "mjx", **at)
-                c = _cell(peers, "mujoco_c", **at)
+    show = (lambda v: NOT_RUN if not np.isfinite(v) else f"{v:.3g}")  # noqa: E731
+    cells = sorted((dict(pv.coords) for pv in select("table7_1", "seconds", device="cpu")),
+                   key=lambda c: (c["batch"], c["n_params"], c["gradient"]))
+    for at in cells:  # the thesis's CPU cells: batch, controller size, with/without gradient
+        batch, n_params, gradient = at["batch"], at["n_params"], at["gradient"]
+        thesis = fmt(select("table7_1", "seconds", **at)[0].value)
+        eng = _cell(ours, **at)
+        mjx = _cell(peers, "mjx", **at)
+        c = _cell(peers, "mujoco_c", **at)
+        finite = ""
+        if peers is not None and gradient and "gradient_finite" in peers:
+            try:
+                ok = float(peers["gradient_finite"].sel(engine="mjx", **at).max())
+                finite = "" if ok == 1.0 else " (gradient NaN)"
+            except (KeyError, ValueError):
                 finite = ""
-                if peers is not None and gradient and "gradient_finite" in peers:
-                    try:
-                        ok = float(peers["gradient_finite"].sel(engine="mjx", **at).max())
-                        finite = "" if ok == 1.0 else " (gradient NaN)"
-                    except (KeyError, ValueError):
-                        finite = ""
-                show = (lambda v: NOT_RUN if not np.isfinite(v) else f"{v:.3g}")  # noqa: E731
-                ratio = (f"{mjx / eng:.2f}" if np.isfinite(mjx) and np.isfinite(eng) and eng > 0
-                         else NOT_RUN)
-                rows.append([str(batch), f"{n_params:,}", "yes" if gradient else "no",
-                             thesis, show(eng), show(mjx) + (finite if np.isfinite(mjx) else ""),
-                             ratio, show(c) if not gradient else "—"])
+        ratio = (f"{mjx / eng:.2f}" if np.isfinite(mjx) and np.isfinite(eng) and eng > 0
+                 else NOT_RUN)
+        rows.append([str(batch), f"{n_params:,}", "yes" if gradient else "no",
+                     thesis, show(eng), show(mjx) + (finite if np.isfinite(mjx) else ""),
+                     ratio, show(c) if not gradient else "—"])
     note = ("Seconds to simulate the batch for 10 model seconds on this machine's CPU; the "
             "thesis's column is its 6-core i7 5930K. MJX / engine below 1: MJX is faster. "
             "Peers come from the optional `table7_1_peers` benchmark (`bench` extra).")
