@@ -175,11 +175,13 @@ def table7_1_table(results) -> Table:
     ours, peers = results.get("ch7/table7_1"), results.get("ch7/table7_1_peers")
     rows = []
     show = (lambda v: NOT_RUN if not np.isfinite(v) else f"{v:.3g}")  # noqa: E731
-    cells = sorted((dict(pv.coords) for pv in select("table7_1", "seconds", device="cpu")),
-                   key=lambda c: (c["batch"], c["n_params"], c["gradient"]))
-    for at in cells:  # the thesis's CPU cells: batch, controller size, with/without gradient
+    cells = sorted(select("table7_1", "seconds", device="cpu"),
+                   key=lambda pv: (dict(pv.coords)["batch"], dict(pv.coords)["n_params"],
+                                   dict(pv.coords)["gradient"]))
+    for pv in cells:  # the thesis's CPU cells: batch, controller size, with/without gradient
+        at = dict(pv.coords)
         batch, n_params, gradient = at["batch"], at["n_params"], at["gradient"]
-        thesis = fmt(select("table7_1", "seconds", **at)[0].value)
+        thesis = fmt(pv.value)
         eng = _cell(ours, **at)
         mjx = _cell(peers, "mjx", **at)
         c = _cell(peers, "mujoco_c", **at)
