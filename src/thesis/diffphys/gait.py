@@ -36,8 +36,8 @@ sweeps, 8-s episodes) at 40 N m 0.040 (0.127) and at 160 N m (40 sweeps x 4 N m)
 (0.048) m/s; dt 0.01 s at 40 N m with alpha 0.99 0.020 (0.099); Adam at 0.01 instead of the
 original's 0.001: 4 N m 0.035, 40 N m 0.285 (0.397), 80 N m 0.150 (0.41); 500 evaluations
 at 40 N m and 0.01: seed 0 -0.017 (0.397 at evaluation 88, then it fell back), seed 1
-0.181 (0.233). No setting came near the thesis's 1.17 m/s; the curves are noisy from one
-evaluation to the next (the rollout is chaotic).
+0.181 (0.233). No setting came near the thesis's speed (``thesis.paper``); the curves are
+noisy from one evaluation to the next (the rollout is chaotic).
 
 The hand-tuned trot (§7.3.3, 0.7 m/s) is reproduced as a search
 (:mod:`thesis.diffphys.trot`, config ``ch7.gait.trot``): every open-loop trot of a grid
