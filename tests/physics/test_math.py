@@ -46,6 +46,12 @@ def test_small_inverses_match_numpy():
     x = rng.normal(size=(5, 6, 6))
     spd = x @ np.swapaxes(x, 1, 2) + 0.5 * np.eye(6)
     np.testing.assert_allclose(inv_spd(jnp.asarray(spd)), np.linalg.inv(spd), rtol=2e-3, atol=1e-4)
+    # robots-last layout: matrices on axes 1, 2 of (joints, 6, 6, robots)
+    last = np.moveaxis(spd.reshape(5, 1, 6, 6), 0, -1)
+    inv_last = np.asarray(inv_spd(jnp.asarray(last), axis=1))
+    assert inv_last.shape == (1, 6, 6, 5)
+    np.testing.assert_allclose(np.moveaxis(inv_last, -1, 0)[:, 0], np.linalg.inv(spd), rtol=2e-3,
+                               atol=1e-4)
     a = rng.normal(size=(5, 3, 3)) + 3 * np.eye(3)
     np.testing.assert_allclose(inv3(jnp.asarray(a)), np.linalg.inv(a), rtol=1e-4, atol=1e-5)
 

@@ -368,8 +368,8 @@ def table7_1(ctx):
         peak_memory_source="jax compiled.memory_analysis(): argument+output+temp-alias "
                            "bytes per device x devices used",
         loss="sum over the batch of the torso's x displacement after n_steps [m]",
-        solver_variant="batch 1: scatter-add of impulses; batch > 1: vmapped with the "
-                       "one-hot product (Model.batched)",
+        solver_variant="batch 1: scatter-add of impulses; batch > 1: vmapped, the solver's "
+                       "robots-last vmap rule with the one-hot product (Model.batched)",
         xla_flags=os.environ.get("XLA_FLAGS", ""),
     )
     return ds

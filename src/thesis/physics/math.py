@@ -112,21 +112,26 @@ def tangent_basis(n):
     return t1, t2
 
 
-def inv_spd(a):
-    """Inverse of small symmetric positive-definite matrices (..., n, n), n static.
+def inv_spd(a, axis=-2):
+    """Inverse of small symmetric positive-definite matrices, n static (n <= 6).
 
-    Unrolled Gauss-Jordan elimination without pivoting (safe for SPD matrices): a fixed,
-    short sequence of vectorised ops, much faster under XLA on CPU than a batched LAPACK
-    call when there are many tiny matrices (one per joint per robot).
+    ``a`` holds the matrices on axes (``axis``, ``axis + 1``), default the last two
+    ((..., n, n)); axes after them are batch axes (the batched solver's robots-last layout,
+    ``thesis.physics.solver``). Unrolled Gauss-Jordan elimination without pivoting (safe
+    for SPD matrices): a fixed, short sequence of vectorised ops, much faster under XLA on
+    CPU than a batched LAPACK call when there are many tiny matrices (one per joint per
+    robot).
     """
-    n = a.shape[-1]
-    eye = jnp.broadcast_to(jnp.eye(n, dtype=a.dtype), a.shape)
-    m = jnp.concatenate([a, eye], axis=-1)
-    for k in range(n):  # static: n <= 6
-        row = m[..., k, :] / m[..., k:k + 1, k]
-        m = m - m[..., :, k:k + 1] * row[..., None, :]
-        m = m.at[..., k, :].set(row)
-    return m[..., :, n:]
+    ax = axis % a.ndim
+    n = a.shape[ax]
+    pre = (slice(None),) * ax
+    eye = jnp.eye(n, dtype=a.dtype).reshape((n, n) + (1,) * (a.ndim - ax - 2))
+    m = jnp.concatenate([a, jnp.broadcast_to(eye, a.shape)], axis=ax + 1)
+    for k in range(n):
+        row = m[pre + (k,)] / m[pre + (slice(k, k + 1), k)]
+        m = m - m[pre + (slice(None), slice(k, k + 1))] * row[pre + (None,)]
+        m = m.at[pre + (k,)].set(row)
+    return m[pre + (slice(None), slice(n, None))]
 
 
 def inv3(a):
