@@ -28,9 +28,10 @@ def test_vmap_equals_loop_of_single_robots():
     assert float(jnp.abs(batched[0] - batched[1]).max()) > 1e-3  # different robots moved
 
 
-def test_batched_solver_variant_matches_the_scatter_add_through_contacts():
-    """Model.batched (one-hot impulse accumulation) = the scatter-add, value and gradient,
-    on the quadruped walking into ground contact (many rows per body, torso included)."""
+def test_batched_solver_matches_the_unbatched_through_contacts():
+    """Model.batched (the solver's robots-last vmap rule) = the unbatched solver, value and
+    gradient (vmap of grad), on the quadruped walking into ground contact (many rows per
+    body, torso included)."""
     from thesis.physics.models import quadruped
 
     m, s = quadruped()

@@ -369,7 +369,7 @@ def table7_1(ctx):
                            "bytes per device x devices used",
         loss="sum over the batch of the torso's x displacement after n_steps [m]",
         solver_variant="batch 1: scatter-add of impulses; batch > 1: vmapped, the solver's "
-                       "robots-last vmap rule with the one-hot product (Model.batched)",
+                       "robots-last vmap rule (Model.batched)",
         xla_flags=os.environ.get("XLA_FLAGS", ""),
     )
     return ds

@@ -146,10 +146,10 @@ class Model(_Replace):
         camera_names, camera_body (C,) (-1 world), camera_pixels ((px_w, px_h), ...).
         batched: the step runs under ``jax.vmap`` over a batch of robots (default False).
             Gives the solver its robots-last ``jax.vmap`` rule (``thesis.physics.solver``:
-            the sweeps vectorise over robots, impulses are added back to bodies with a
-            static one-hot product instead of a scatter-add). Tab. 7.1, batch 128 over two
-            cores, forward 1,296 parameters: 6.56 s (scatter-add) -> 5.12 s (one-hot) ->
-            2.7 s (XLA flags of ``thesis.jaxsetup``) -> 1.4 s (robots-last rule). Results
+            the sweeps vectorise over robots). Tab. 7.1, batch 128 over two cores, forward
+            1,296 parameters: 6.56 s (vmapped scatter-add) -> 5.12 s (vmapped one-hot
+            product) -> 2.7 s (XLA flags of ``thesis.jaxsetup``) -> 1.2 s (robots-last
+            rule with a scatter-add over contiguous rows). Results
             agree with an unbatched model up to float round-off; reverse-mode gradients
             work in either order of ``jax.grad`` and ``jax.vmap``, forward-mode
             (``jax.jvp``) does not (a ``custom_vjp``). Leave it False for one robot.
