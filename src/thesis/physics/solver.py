@@ -93,7 +93,8 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
         mask: (n_joint, 6) static 0/1 rows of each joint block. idx: static body indices
             ``ba, bb, ra, rb`` of the blocks and rows. Others as in :func:`solve`.
     Returns:
-        dict of arrays with a leading row axis: ``v0``; joint blocks ``ja``, ``jb``,
+        dict of arrays with a leading row axis: ``v0``; joint blocks ``mask`` (the static
+        mask with the batch axes), ``ja``, ``jb``,
         ``wa``, ``wb`` (M^-1 J^T), ``a_inv`` (inverse of the softened 6x6 block),
         ``bias_j``, ``cfm_j``; scalar rows ``rja``, ``rjb``, ``wra``, ``wrb``, ``m_c``
         (effective mass), ``cfm``, ``bias``, ``lo``, ``hi``, ``fric``.
@@ -115,7 +116,7 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
     wrb = _apply_minv(rows["jb"], inv_m[rb], inv_iw[rb], 1)
     d = jnp.sum(rows["ja"] * wra, axis=1) + jnp.sum(rows["jb"] * wrb, axis=1)
     cfm = rows["gamma"] * d + rows["cfm_abs"]
-    return dict(v0=v0, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
+    return dict(v0=v0, mask=mask, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
                 bias_j=blocks["bias"], cfm_j=cfm_blk, rja=rows["ja"], rjb=rows["jb"],
                 wra=wra, wrb=wrb, m_c=1.0 / jnp.maximum(d + cfm, 1e-12), cfm=cfm,
                 bias=rows["bias"], lo=rows["lo"], hi=rows["hi"], fric=rows["fric"])
@@ -139,7 +140,7 @@ def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
     ba, bb, ra, rb = idx
     v0 = c["v0"]
     nb1, dtype, extra = v0.shape[0], v0.dtype, v0.ndim - 2
-    mask = jnp.asarray(m.joint_row_mask, dtype).reshape(m.joint_row_mask.shape + (1,) * extra)
+    mask = c["mask"]
     relax = jnp.asarray(relax, dtype)
     relax_j, relax_r = relax.reshape((1, 1) + relax.shape), relax.reshape((1,) + relax.shape)
     seg = np.concatenate([ba, bb, ra, rb]).astype(np.int32)

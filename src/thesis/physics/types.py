@@ -149,10 +149,10 @@ class Model(_Replace):
             the sweeps vectorise over robots). Tab. 7.1, batch 128 over two cores, forward
             1,296 parameters: 6.56 s (vmapped scatter-add) -> 5.12 s (vmapped one-hot
             product) -> 2.7 s (XLA flags of ``thesis.jaxsetup``) -> 1.2 s (robots-last
-            rule with a scatter-add over contiguous rows). Results
-            agree with an unbatched model up to float round-off; reverse-mode gradients
-            work in either order of ``jax.grad`` and ``jax.vmap``, forward-mode
-            (``jax.jvp``) does not (a ``custom_vjp``). Leave it False for one robot.
+            rule with a scatter-add over contiguous rows). Results agree with an unbatched
+            model up to float round-off; reverse-mode gradients work in either order of
+            ``jax.grad`` and ``jax.vmap``, forward-mode (``jax.jvp``) does not (a
+            ``custom_vjp``). Leave it False for one robot.
 
     Traced (jax.Array):
         dt: () time step [s]. gravity: (3,) [m/s^2]. warm_start: () fraction of last
