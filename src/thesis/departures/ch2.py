@@ -1,0 +1,7 @@
+"""Departures of chapter 2 from the thesis (see :class:`thesis.departures.types.Departure`)."""
+
+from __future__ import annotations
+
+from thesis.departures.types import Departure
+
+DEPARTURES: tuple[Departure, ...] = ()
