@@ -225,3 +225,22 @@ def test_command_series_matches_commands(fams):
     np.testing.assert_allclose(tab[17], fam.commands(p, 17 * T.COMMAND_DT), atol=1e-5)
     batch = jax.vmap(lambda q: T.command_series(fam, q, 5))(jnp.stack([p, p]))
     assert batch.shape == (2, 5, 12)
+
+
+@pytest.mark.parametrize("cls", [T.EllipseGait, T.SplineGait])
+def test_walk_phasing_shifts_each_leg(cls):
+    """A family built with ``WALK_PHASE`` gives each leg the trot family's commands of
+    that leg at its own phase offset; the default is the trot, unchanged."""
+    trot, walk = cls(), cls(phase_offsets=T.WALK_PHASE)
+    p = jnp.asarray(trot.project(_params(trot, **(ELLIPSE if cls is T.EllipseGait else SPLINE))))
+    ph = jnp.linspace(0.0, 1.0, 24, endpoint=False)
+    c_walk = jax.vmap(lambda s: walk.commands_at_phase(p, s))(ph).reshape(24, 4, 3)
+    for leg, (w_off, t_off) in enumerate(zip(T.WALK_PHASE, T.TROT_PHASE)):
+        c_trot = jax.vmap(lambda s: trot.commands_at_phase(p, s + w_off - t_off))(ph)
+        np.testing.assert_allclose(c_walk[:, leg], c_trot.reshape(24, 4, 3)[:, leg], atol=1e-5)
+    explicit = cls(phase_offsets=T.TROT_PHASE)
+    np.testing.assert_array_equal(trot.commands_at_phase(p, 0.3),
+                                  explicit.commands_at_phase(p, 0.3))
+    assert len(set(T.WALK_PHASE)) == 4  # every leg its own phase
+    np.testing.assert_allclose(T.leg_phases(0.3, T.WALK_PHASE), [0.55, 0.05, 0.3, 0.8],
+                               atol=1e-6)

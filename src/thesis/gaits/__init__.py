@@ -18,6 +18,7 @@ from thesis.gaits.leg import reachable as reachable
 from thesis.gaits.trajectories import COMMAND_DT as COMMAND_DT
 from thesis.gaits.trajectories import FAMILIES as FAMILIES
 from thesis.gaits.trajectories import TROT_PHASE as TROT_PHASE
+from thesis.gaits.trajectories import WALK_PHASE as WALK_PHASE
 from thesis.gaits.trajectories import EllipseGait as EllipseGait
 from thesis.gaits.trajectories import SineGait as SineGait
 from thesis.gaits.trajectories import SplineGait as SplineGait
@@ -29,7 +30,7 @@ from thesis.gaits.transitions import transition_commands as transition_commands
 from thesis.gaits.transitions import transition_state as transition_state
 
 __all__ = [
-    "COMMAND_DT", "FAMILIES", "JOINTS", "LEGS", "TROT_PHASE", "EllipseGait", "LegGeometry", "SineGait",
+    "COMMAND_DT", "FAMILIES", "JOINTS", "LEGS", "TROT_PHASE", "WALK_PHASE", "EllipseGait", "LegGeometry", "SineGait",
     "SplineGait", "command_series", "forward", "forward3d", "inverse", "inverse3d", "leg", "oncilla_geometry",
     "reach_boundary", "reachable", "schedule_commands", "schedule_state", "theoretical_speed",
     "trajectories", "transition_commands", "transition_state", "transitions",

@@ -41,6 +41,10 @@ from thesis.gaits import leg as L
 
 #: Phase offset [cycles] of each leg for a trot (LEGS order): diagonal pairs in phase.
 TROT_PHASE = (0.0, 0.5, 0.5, 0.0)
+#: Phase offsets [cycles] of a lateral-sequence walk (LEGS order LF, RF, LH, RH): the feet
+#: touch down LH, LF, RH, RF a quarter cycle apart, so "each leg has a different phase"
+#: (§6.5). The thesis does not print its walk; this is Hildebrand's lateral sequence.
+WALK_PHASE = (0.25, 0.75, 0.0, 0.5)
 #: Range of the depth of the locus centre below the hip, x0 [mm] (Tab. 4.1).
 X0_RANGE = (126.0, 158.0)
 #: Range of the gait frequency f [Hz] (Tab. 4.1).
@@ -63,9 +67,12 @@ def theoretical_speed(a_mm, frequency, duty):
     return 2.0 * jnp.asarray(a_mm) * 1e-3 * jnp.asarray(frequency) / jnp.asarray(duty)
 
 
-def leg_phases(phase) -> jnp.ndarray:
-    """(..., 4) per-leg phase in [0, 1) for the global gait phase(s) [cycles] (trot)."""
-    p = jnp.asarray(phase)[..., None] + jnp.asarray(TROT_PHASE)
+def leg_phases(phase, offsets=TROT_PHASE) -> jnp.ndarray:
+    """(..., 4) per-leg phase in [0, 1) for the global gait phase(s) [cycles].
+
+    ``offsets``: (4,) phase offset of each leg [cycles], LEGS order (default: the trot's
+    ``TROT_PHASE``; ``WALK_PHASE`` for the walk of §6.5)."""
+    p = jnp.asarray(phase)[..., None] + jnp.asarray(offsets)
     return jnp.mod(p, 1.0)
 
 
@@ -107,6 +114,9 @@ class _LociGait:
     """Shared machinery of the foot-locus families (ellipse, spline)."""
 
     geom: L.LegGeometry = dataclasses.field(default_factory=L.oncilla_geometry)
+    #: (4,) phase offset of each leg [cycles], LEGS order: the trot by default (chapters 3
+    #: and 4), ``WALK_PHASE`` for the walk teacher of chapter 6.
+    phase_offsets: tuple = TROT_PHASE
 
     def __post_init__(self):
         object.__setattr__(self, "table", ReachTable(self.geom))
@@ -148,7 +158,7 @@ class _LociGait:
         ``yaw``: optional (4,) rotation [rad] of each leg's locus about the vertical axis
         through its centre (turning with the scapulae, §3.3.2.5)."""
         params = jnp.asarray(params)
-        s = leg_phases(phase)
+        s = leg_phases(phase, self.phase_offsets)
         fore = jnp.asarray(L.IS_FORE)
         dx, depth = self._locus(params, s, fore)  # (4,), (4,) in mm, dx from centre
         y0 = jnp.where(fore, params[self.index("y0_fore")], params[self.index("y0_hind")])
