@@ -1,0 +1,86 @@
+"""The closed loop on the simulated Oncilla: encoders, NaN handling, open-loop tracking."""
+
+from __future__ import annotations
+
+import importlib
+
+import jax
+import numpy as np
+import pytest
+
+from thesis.embodied import controller as C
+from thesis.embodied import loop
+from thesis.embodied import protocol as PR
+from thesis.embodied import teacher as TE
+from thesis.errors import SimulationDiverged
+
+O = importlib.import_module("thesis.physics.models.oncilla")
+
+DT, SUB = 0.00205, 4
+SCH = PR.Schedule(settle=0.2, normalisation=0.2, stage1=0.1, stage2=0.1, running=0.1,
+                  off=0.05, recovery=0.05)
+N = PR.n_steps(SCH.total, DT * SUB)
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return O.oncilla(dt=DT)
+
+
+@pytest.fixture(scope="module")
+def table():
+    fam = TE.family("half_ellipse")
+    p = np.array([140.0, 5.0, -10.0, 40.0, 20.0, 25.0, 0.55, 1.7])  # Tab. 3.1a order
+    return TE.command_table(fam, p, N, DT * SUB, SCH.settle)
+
+
+def _run(teacher, seed):
+    wh, wb = C.draw_hidden(np.random.default_rng(seed), 6)
+    return dict(teacher=teacher, **PR.signals(SCH, DT * SUB, N), w_hidden=wh, w_bias=wb,
+                hidden_mask=np.ones(6), slot_mask=np.ones(3), identity=False,
+                noise_std=0.01, noise_seed=seed)
+
+
+def test_encoders_are_hip_and_knee_in_thesis_angles(robot):
+    model, state = robot
+    dofs = loop.encoder_dofs(model)
+    assert len(set(dofs.tolist())) == 8
+    q = np.asarray(jax.jit(lambda s: loop.all_sensors(model, s)["joint_angle"])(state))[dofs]
+    np.testing.assert_allclose(q + loop.encoder_offsets(), np.asarray(O.build_offsets())[
+        list(loop.HIP_KNEE)], atol=1e-4)  # standing in the build pose
+    assert [O.SERVO_NAMES[i] for i in loop.HIP_KNEE][:2] == ["LF_hip", "LF_knee"]
+
+
+def test_nan_stops_with_condition_seed_and_step(robot, table):
+    model, state = robot
+    bad = table.copy()
+    k = PR.n_steps(SCH.bounds()["stage1"][0], DT * SUB) + 5  # RLS learns at step k
+    bad[k] = np.nan  # a NaN target makes W NaN: the output is NaN from step k + 1
+    with pytest.raises(SimulationDiverged) as err:
+        loop.simulate(model, state, [_run(table, 0), _run(bad, 1)], SUB,
+                      experiment="ch6/test", labels=[("ok", 0), ("broken", 1)])
+    e = err.value
+    assert e.experiment == "ch6/test/broken" and e.seed == 1 and e.step == k + 1
+    assert "seed=1" in str(e) and f"step={k + 1}" in str(e)
+
+
+def test_open_loop_teacher_moves_the_joints_it_commands(robot, table):
+    model, state = robot
+    runs = [_run(table, 0), _run(table, 1)]
+    runs[1]["share"] = np.ones(N, np.float32)  # open loop: the teacher drives throughout
+    runs[1]["learn"] = np.zeros(N, np.float32)
+    rec, timing = loop.simulate(model, state, runs, SUB, experiment="ch6/test",
+                                labels=[("a", 0), ("b", 1)])
+    assert rec["y_hat"].shape == (2, N, 12) and rec["encoders"].shape == (2, N, 8)
+    assert timing["rollout_seconds"] > 0
+    hip = loop.HIP_KNEE[::2]
+    enc = rec["encoders"][1, :, ::2]
+    cmd = table[:, list(hip)]
+    k = PR.n_steps(SCH.settle, DT * SUB)
+    lag = 3  # the servo follows a few controller steps behind
+    err = np.abs(enc[k + lag:] - cmd[k:-lag]).mean()
+    assert err < 0.1 and np.ptp(cmd[k:], axis=0).max() > 0.1
+    # the open-loop run never learned: its output stays 0; the other learned something
+    np.testing.assert_array_equal(rec["y_hat"][1], 0.0)
+    assert np.abs(rec["y_hat"][0]).max() > 0.01
+    assert np.all(rec["trunk_up"] > 0.9)
