@@ -25,6 +25,19 @@ EXPERIMENTS: dict[str, str] = {
     "ch3/robustness": "thesis.gaits.experiments:robustness",
     "ch3/table3_2": "thesis.gaits.experiments:table3_2",
     "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
+    # ch6: embodied gait (ELM + delay buffer + RLS) on the Oncilla
+    "ch6/teacher": "thesis.embodied.experiments:teacher",
+    "ch6/trot": "thesis.embodied.experiments:trot",
+    "ch6/walk": "thesis.embodied.experiments:walk",
+    "ch6/linear_feedback": "thesis.embodied.experiments:linear_feedback",
+    "ch6/minimal_hidden": "thesis.embodied.experiments:minimal_hidden",
+    "ch6/minimal_buffer": "thesis.embodied.experiments:minimal_buffer",
+    "ch6/minimal_training": "thesis.embodied.experiments:minimal_training",
+    "ch6/phase1_only": "thesis.embodied.experiments:phase1_only",
+    "ch6/power_off": "thesis.embodied.experiments:power_off",
+    "ch6/fig6_4": "thesis.embodied.experiments:fig6_4",
+    "ch6/fig6_5": "thesis.embodied.experiments:fig6_5",
+    "ch6/fig6_6": "thesis.embodied.experiments:fig6_6",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
@@ -43,6 +56,15 @@ BENCHMARKS: dict[str, str] = {
 }
 
 
+#: What every chapter 6 sweep reads, and each sweep's own section (thesis.embodied).
+_CH6_RUN = ("ch6.seeds", "ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
+            "ch6.record")
+_CH6_SWEEPS = {"trot": ("ch6.trot",), "walk": ("ch6.walk",), "linear_feedback": (),
+               "minimal_hidden": ("ch6.minimal_hidden",),
+               "minimal_buffer": ("ch6.minimal_buffer",),
+               "minimal_training": ("ch6.minimal_training",), "phase1_only": ("ch6.trot",),
+               "power_off": ("ch6.power_off",)}
+
 #: Configuration each experiment reads, as dotted paths, where it is narrower than its
 #: chapter's section (the default). Provenance records exactly these, Snakemake reruns
 #: an experiment only when they change, and the experiment's ``ctx.config`` holds only
@@ -57,6 +79,12 @@ READS: dict[str, tuple[str, ...]] = {
                              "ch2.rnn_spn"),
     "ch2/table2_2": ("ch2.seeds", "ch2.train", "ch2.ffn_spn", "ch2.rnn_spn"),
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
+    **{f"ch6/{name}": _CH6_RUN + extra for name, extra in _CH6_SWEEPS.items()},
+    "ch6/teacher": ("ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
+                    "ch6.teacher", "ch6.walk"),
+    "ch6/fig6_4": ("ch6.seeds",),
+    "ch6/fig6_5": ("ch6.seeds",),
+    "ch6/fig6_6": ("ch6.fig6_6",),
     "ch7/ball": ("ch7.ball",),
     "ch7/arm_fixed": ("ch7.arm_fixed",),
     "ch7/arm_random": ("ch7.arm_random",),

@@ -1,2 +1,139 @@
-# Chapter 6: rules are added here as its experiments land (see CONTRIBUTING.md §3).
-# Until then its target is empty and the report shows "not run".
+# Chapter 6: an embodied trot and walk learned online on the simulated Oncilla
+# (thesis.embodied.experiments).
+#
+# teacher (open-loop screen of chapter 3's optima, input table3_1) -> its trot and walk
+# teachers feed the controller sweeps (trot, walk, linear_feedback, minimal_hidden,
+# minimal_buffer, minimal_training, phase1_only, power_off), each one batched closed-loop
+# simulation; fig6_4 / fig6_5 extract the joint-space trajectories of trot / walk and
+# fig6_6 joins the training MSE and outcomes of the sweeps with 10-s stages.
+
+
+rule ch6_teacher:
+    message:
+        "Oncilla: screening open-loop trot and walk teachers (§6.4), profile {PROFILE}"
+    input:
+        table3_1=rules.ch3_table3_1.output.nc,
+    output:
+        nc=result("ch6", "teacher"),
+    params:
+        cfg=cfg_slice("ch6/teacher"),
+        code=code_of("ch6"),
+    log:
+        log_path("ch6", "teacher"),
+    benchmark:
+        bench_path("ch6", "teacher")
+    threads: 2
+    resources:
+        mem_mb=4000,
+        runtime=30,
+    shell:
+        "{THESIS} run ch6/teacher --profile {PROFILE} "
+        "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
+
+
+for _name, _what in [
+    ("trot", "the trot with H = 50, B = 5 (§6.5, Fig. 6.4)"),
+    ("walk", "the walk with H = 50, B = 12 and its control (§6.5, Fig. 6.5)"),
+    ("linear_feedback", "linear feedback without hidden layer (§6.3.1)"),
+    ("minimal_hidden", "the sweep of H at B = 0 (§6.5)"),
+    ("minimal_buffer", "the sweep of B at H = 12 (§6.5)"),
+    ("minimal_training", "the sweep of the training-stage length (§6.5)"),
+    ("phase1_only", "the first training stage alone (§6.4)"),
+    ("power_off", "the sweep of the motors-off duration (§6.4)"),
+]:
+
+    rule:
+        name:
+            f"ch6_{_name}"
+        message:
+            f"Oncilla closed loop: {_what}, profile {PROFILE}"
+        input:
+            teacher=rules.ch6_teacher.output.nc,
+        output:
+            nc=result("ch6", _name),
+        params:
+            cfg=cfg_slice(f"ch6/{_name}"),
+            code=code_of("ch6"),
+            key=f"ch6/{_name}",
+        log:
+            log_path("ch6", _name),
+        benchmark:
+            bench_path("ch6", _name)
+        threads: 2
+        resources:
+            mem_mb=6000,
+            runtime=60,
+        shell:
+            "{THESIS} run {params.key} --profile {PROFILE} "
+            "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+
+
+for _fig, _src in [("fig6_4", "trot"), ("fig6_5", "walk")]:
+
+    rule:
+        name:
+            f"ch6_{_fig}"
+        message:
+            f"Joint-space trajectories of the right hind leg from {_src}, profile {PROFILE}"
+        input:
+            src=result("ch6", _src),
+        output:
+            nc=result("ch6", _fig),
+        params:
+            cfg=cfg_slice(f"ch6/{_fig}"),
+            code=code_of("ch6"),
+            key=f"ch6/{_fig}",
+            src=_src,
+        log:
+            log_path("ch6", _fig),
+        threads: 1
+        resources:
+            mem_mb=2000,
+            runtime=10,
+        shell:
+            "{THESIS} run {params.key} --profile {PROFILE} "
+            "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_fig6_6:
+    message:
+        "Training MSE against the number of signals and outcome (Fig. 6.6), profile {PROFILE}"
+    input:
+        linear_feedback=rules.ch6_linear_feedback.output.nc,
+        trot=rules.ch6_trot.output.nc,
+        minimal_hidden=rules.ch6_minimal_hidden.output.nc,
+        minimal_buffer=rules.ch6_minimal_buffer.output.nc,
+    output:
+        nc=result("ch6", "fig6_6"),
+    params:
+        cfg=cfg_slice("ch6/fig6_6"),
+        code=code_of("ch6"),
+    log:
+        log_path("ch6", "fig6_6"),
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=10,
+    shell:
+        "{THESIS} run ch6/fig6_6 --profile {PROFILE} "
+        "--input linear_feedback={input.linear_feedback} --input trot={input.trot} "
+        "--input minimal_hidden={input.minimal_hidden} "
+        "--input minimal_buffer={input.minimal_buffer} --output {output.nc} > {log} 2>&1"
+
+
+CHAPTER_TARGETS["ch6"] = [
+    rules.ch6_teacher.output.nc,
+    rules.ch6_trot.output.nc,
+    rules.ch6_walk.output.nc,
+    rules.ch6_linear_feedback.output.nc,
+    rules.ch6_minimal_hidden.output.nc,
+    rules.ch6_minimal_buffer.output.nc,
+    rules.ch6_minimal_training.output.nc,
+    rules.ch6_phase1_only.output.nc,
+    rules.ch6_power_off.output.nc,
+    rules.ch6_fig6_4.output.nc,
+    rules.ch6_fig6_5.output.nc,
+    rules.ch6_fig6_6.output.nc,
+]
+FIGURES["ch6"] = ["fig6_4", "fig6_5", "fig6_6", "success_rates"]
+TABLES["ch6"] = ["success", "minimal", "teacher", "criteria"]
