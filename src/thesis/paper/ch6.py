@@ -1,11 +1,12 @@
 """Chapter 6 (embodied gait on the Oncilla): the minimal controller sizes and times of §6.4-6.5.
 
 H is the number of hidden (ELM) neurons, B the length of the delay buffer in controller
-time steps, N = (B + 1) H + 1 the number of signals the RLS readout receives. The
-experiments are not built yet; artifacts are named after the §6.5 experiments:
+time steps, N = (B + 1) H + 1 the number of signals the RLS readout receives. Artifacts
+(``thesis.embodied.experiments``) are named after the §6.5 experiments:
 ``trot`` (H = 50, B = 5), ``walk`` (H = 50, B = 12, 30 s stages), ``minimal_buffer``
 (H = 12 needs B >= 16), ``minimal_hidden`` (B = 0 needs H = 128 +- 32) and
-``minimal_training`` (H = 250, B = 0: 1.18 s per stage).
+``minimal_training`` (H = 250, B = 0: 1.18 s per stage). Entries ``sec6.2/*`` and
+``sec6.4/*`` are the setup of §6.2 and §6.4 that the departures refer to.
 """
 
 from __future__ import annotations
@@ -68,6 +69,20 @@ ENTRIES: tuple[PaperValue, ...] = (
     _e("§6.4", "sec6.4", "target_gait_speed", 0.76, "m/s",
        "We have the robot trot at a frequency of 1.7 Hz, corresponding to a speed of about "
        "0.76 m/s.", 1, "teacher trot"),
+    _e("§6.2", "sec6.2", "controller_dt_variation", 15.0, "percent",
+       "However, this period can vary as much as 15% depending on the computational "
+       "complexity of the controller.", 0, "variation of the controller time step"),
+    _e("§6.2", "sec6.2", "encoders", 8.0, "1",
+       "In this paper, we only use the 8 rotary encoders on the hip and knee joints of the "
+       "robot.", 0, "controller inputs"),
+    _e("§6.4", "sec6.4", "normalisation_seconds", 5.0, "s",
+       "This stage takes 5 s.", 0, "normalisation phase"),
+    _e("§6.4", "sec6.4", "stage_seconds", 10.0, "s",
+       "This stage takes 10 s, unless noted differently.", 0,
+       "first and second training stage each"),
+    _e("§6.4", "sec6.4", "input_noise", 0.01, "1",
+       "After normalization, we add Gaussian noise with an amplitude of 0.01 to each input "
+       "signal for regularization during training.", 0, "training input noise"),
     _e("§6.4", "sec6.4", "stable_run_seconds", 30.0, "s",
        "In this paper, we therefore look for the minimal values of the parameters in our "
        "control system that allow our robot to run stably for 30 seconds", 0,

@@ -1,0 +1,199 @@
+"""Chapter-6 claims decided on synthetic sweep datasets: each check has a case that supports
+it (reproduced) and one that contradicts it (must not come out reproduced)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from thesis import claims
+from thesis.claims import ch6
+
+SEEDS = 5
+
+
+def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
+          outcome=None, curve=None, period=0.588) -> xr.Dataset:
+    """A sweep dataset: ``success`` (n_config, SEEDS) 0/1, per-config H, B, stages."""
+    n = len(configs)
+    success = np.asarray(success, float).reshape(n, SEEDS)
+    hidden = np.asarray(hidden if hidden is not None else [50] * n)
+    buffer = np.asarray(buffer if buffer is not None else [5] * n)
+    stage = np.asarray(stage if stage is not None else [10.0] * n, float)
+    mse = np.asarray(mse if mse is not None else np.full((n, SEEDS), 0.01), float)
+    if outcome is None:
+        outcome = np.where(success == 1, "stable", "erratic")
+    t = np.arange(0, 20, 0.05)
+    if curve is None:
+        curve = 0.5 * np.exp(-t / 0.3) + 0.002
+    c = np.broadcast_to(curve, (n, SEEDS, t.size))
+    dims = ("config", "seed")
+    return xr.Dataset(
+        dict(success=(dims, success, dict(units="1")),
+             outcome=(dims, np.asarray(outcome, str), dict(units="1")),
+             train_mse=(dims, mse, dict(units="rad2")),
+             mse_curve=(("config", "seed", "train_time"), c, dict(units="rad2")),
+             hidden=(("config",), hidden), buffer=(("config",), buffer),
+             n_signals=(("config",), (buffer + 1) * hidden + 1),
+             stage1_seconds=(("config",), stage), gait_period=(("config",), np.full(n, period))),
+        coords=dict(config=list(configs), seed=np.arange(SEEDS), train_time=t))
+
+
+def rows(*rates):
+    """Success rows with the given number of successful seeds out of 5."""
+    return [[1.0] * k + [0.0] * (SEEDS - k) for k in rates]
+
+
+def check(claim_id, **res):
+    return claims.get(claim_id).check({f"ch6/{k}": v for k, v in res.items()})
+
+
+def test_trot_stable():
+    good = sweep(["h50_b5"], rows(4))
+    bad = sweep(["h50_b5"], rows(1))
+    mid = sweep(["h50_b5"], rows(2))
+    assert check("ch6.trot_h50_b5_stable", trot=good).status == "reproduced"
+    assert check("ch6.trot_h50_b5_stable", trot=bad).status == "not_reproduced"
+    assert check("ch6.trot_h50_b5_stable", trot=mid).status == "inconclusive"
+    few = sweep(["h50_b5"], rows(4)).isel(seed=[0, 1])
+    assert check("ch6.trot_h50_b5_stable", trot=few).status == "inconclusive"
+
+
+def test_phase1_only():
+    trot = sweep(["h50_b5"], rows(5))
+    assert check("ch6.phase1_only_fails", trot=trot,
+                 phase1_only=sweep(["p1"], rows(0))).status == "reproduced"
+    assert check("ch6.phase1_only_fails", trot=trot,
+                 phase1_only=sweep(["p1"], rows(4))).status == "not_reproduced"
+    v = check("ch6.phase1_only_fails", trot=sweep(["h50_b5"], rows(0)),
+              phase1_only=sweep(["p1"], rows(0)))
+    assert v.status == "inconclusive" and "stage 2" in v.detail
+
+
+HS = [32, 64, 96, 128, 160, 192, 256]
+
+
+def test_memoryless_feedback():
+    names = [f"h{h}_b0" for h in HS]
+    good = sweep(names, rows(0, 0, 1, 4, 5, 5, 5), hidden=HS, buffer=[0] * 7)
+    v = check("ch6.memoryless_feedback_trots", minimal_hidden=good)
+    assert v.status == "reproduced"
+    assert v.measured["min_hidden_per_seed_median"] == 128
+    bad = sweep(names, rows(0, 0, 0, 1, 0, 1, 0), hidden=HS, buffer=[0] * 7)
+    assert check("ch6.memoryless_feedback_trots", minimal_hidden=bad).status == "not_reproduced"
+    with_buffer = sweep(names, rows(0, 0, 1, 4, 5, 5, 5), hidden=HS, buffer=[1] * 7)
+    assert check("ch6.memoryless_feedback_trots",
+                 minimal_hidden=with_buffer).status == "not_run"
+
+
+def test_minimal_per_seed():
+    s = np.array([[0, 1, 0], [1, 1, 0], [1, 1, 1], [1, 0, 1]], float)  # rows: values
+    out = ch6.minimal_per_seed(s, [10, 20, 30, 40])
+    np.testing.assert_array_equal(out, [20, np.nan, 30])
+
+
+STAGES = [0.59, 1.18, 2.36, 4.72, 10.0]
+
+
+def test_couple_of_strides_and_ch8():
+    names = [f"stage{s:g}s" for s in STAGES]
+    good = sweep(names, rows(0, 4, 5, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
+    bad = sweep(names, rows(0, 1, 3, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
+    for cid in ("ch6.learns_in_a_couple_of_strides",
+                "ch8.ch6_stable_trot_in_few_periods_without_memory"):
+        c = claims.get(cid)
+        assert c.check({"ch6/minimal_training": good}).status == "reproduced"
+        assert c.check({"ch6/minimal_training": bad}).status == "not_reproduced"
+    long_only = sweep(names[2:], rows(5, 5, 5), hidden=[250] * 3, buffer=[0] * 3,
+                      stage=STAGES[2:])
+    assert check("ch6.learns_in_a_couple_of_strides",
+                 minimal_training=long_only).status == "inconclusive"
+
+
+def test_extends_to_walk():
+    trot = sweep(["h50_b5"], rows(5))
+    names = ["walk_h50_b12", "trot_settings_h50_b5"]
+    good = sweep(names, rows(4, 0), buffer=[12, 5], stage=[30, 10])
+    assert check("ch6.extends_to_walk", walk=good, trot=trot).status == "reproduced"
+    bad = sweep(names, rows(0, 0), buffer=[12, 5], stage=[30, 10])
+    assert check("ch6.extends_to_walk", walk=bad, trot=trot).status == "not_reproduced"
+    easy = sweep(names, rows(5, 5), buffer=[12, 5], stage=[30, 10])
+    assert check("ch6.extends_to_walk", walk=easy, trot=trot).status == "inconclusive"
+
+
+BS = [0, 4, 8, 12, 16, 20, 24]
+
+
+def _pair(hidden_rates, buffer_rates):
+    mh = sweep([f"h{h}_b0" for h in HS], rows(*hidden_rates), hidden=HS, buffer=[0] * 7)
+    mb = sweep([f"h12_b{b}" for b in BS], rows(*buffer_rates), hidden=[12] * 7, buffer=BS)
+    return dict(minimal_hidden=mh, minimal_buffer=mb)
+
+
+def test_memory_and_nonlinearity():
+    # thesis-like: B = 0 needs H = 128 (N = 129), H = 12 needs B = 16 (N = 205): ratio 1.6
+    v = check("ch6.memory_and_nonlinearity_interchangeable",
+              **_pair((0, 0, 1, 4, 5, 5, 5), (0, 0, 0, 1, 4, 5, 5)))
+    assert v.status == "reproduced" and v.measured["signal_ratio"] == pytest.approx(205 / 129)
+    # memory never compensates
+    v = check("ch6.memory_and_nonlinearity_interchangeable",
+              **_pair((0, 0, 1, 4, 5, 5, 5), (0, 0, 0, 0, 0, 0, 0)))
+    assert v.status == "not_reproduced"
+    # memory needs far more signals: H = 32 works (N = 33) vs B = 24 (N = 301)
+    v = check("ch6.memory_and_nonlinearity_interchangeable",
+              **_pair((0, 4, 5, 5, 5, 5, 5), (0, 0, 0, 0, 0, 0, 4)))
+    assert v.status == "not_reproduced"
+    # H = 12 without a buffer already works: nothing to compensate
+    v = check("ch6.memory_and_nonlinearity_interchangeable",
+              **_pair((0, 0, 1, 4, 5, 5, 5), (4, 4, 5, 5, 5, 5, 5)))
+    assert v.status == "inconclusive"
+
+
+def _fig6_6(mse_of_n, success_of_mse, seeds=SEEDS, seed=0):
+    rng = np.random.default_rng(seed)
+    hidden = np.array([8, 32, 64, 128, 256, 12, 12, 12, 50])
+    buffer = np.array([0, 0, 0, 0, 0, 0, 8, 16, 5])
+    n = (buffer + 1) * hidden + 1
+    mse = mse_of_n(n)[:, None] * np.exp(0.1 * rng.standard_normal((n.size, seeds)))
+    succ = success_of_mse(mse).astype(float)
+    dims = ("setting", "seed")
+    return xr.Dataset(
+        dict(train_mse=(dims, mse, dict(units="rad2")), success=(dims, succ, dict(units="1")),
+             n_signals=(("setting",), n.astype(float)), hidden=(("setting",), hidden),
+             buffer=(("setting",), buffer)),
+        coords=dict(setting=[f"s{i}" for i in range(n.size)], seed=np.arange(seeds)))
+
+
+def test_signal_count_and_ch8():
+    good = _fig6_6(lambda n: 1.0 / n, lambda m: m < 0.01)
+    bad = _fig6_6(lambda n: 1e-4 * n, lambda m: m > 0.01)
+    flat = _fig6_6(lambda n: np.full(n.shape, 0.01), lambda m: np.ones_like(m, bool))
+    for cid in ("ch6.signal_count_determines_performance", "ch8.ch6_signal_count_most_important"):
+        c = claims.get(cid)
+        assert c.check({"ch6/fig6_6": good}).status == "reproduced"
+        assert c.check({"ch6/fig6_6": bad}).status == "not_reproduced"
+        assert c.check({"ch6/fig6_6": flat}).status == "inconclusive"
+
+
+def test_mse_drops_rapidly():
+    t = np.arange(0, 20, 0.05)
+    assert check("ch6.mse_drops_rapidly", trot=sweep(["h50_b5"], rows(5))).status == "reproduced"
+    slow = sweep(["h50_b5"], rows(5), curve=0.5 * np.exp(-t / 10.0))
+    assert check("ch6.mse_drops_rapidly", trot=slow).status == "not_reproduced"
+
+
+def test_linear_feedback():
+    ok = sweep(["linear"], rows(0), hidden=[0], buffer=[0],
+               outcome=[["erratic", "no_return", "erratic", "fallen", "dies_out"]])
+    v = check("ch6.linear_feedback_insufficient", linear_feedback=ok)
+    assert v.status == "reproduced" and v.measured["n_erratic"] == 2
+    works = sweep(["linear"], rows(5), hidden=[0], buffer=[0])
+    assert check("ch6.linear_feedback_insufficient",
+                 linear_feedback=works).status == "not_reproduced"
+
+
+def test_missing_and_malformed_data_are_not_run():
+    assert claims.get("ch6.extends_to_walk").check({}).status == "not_run"
+    v = check("ch6.trot_h50_b5_stable", trot=xr.Dataset())
+    assert v.status == "not_run" and "layout mismatch" in v.detail
