@@ -4,4 +4,169 @@ from __future__ import annotations
 
 from thesis.departures.types import Departure
 
-DEPARTURES: tuple[Departure, ...] = ()
+#: Every chapter 6 simulation (the teacher screen and the controller sweeps).
+_SIMS = ("ch6/teacher", "ch6/trot", "ch6/walk", "ch6/linear_feedback", "ch6/minimal_hidden",
+         "ch6/minimal_buffer", "ch6/minimal_training", "ch6/phase1_only", "ch6/power_off")
+#: Results built from trained controllers (the sweeps and the figures made from them).
+_LEARNED = _SIMS[1:] + ("ch6/fig6_4", "ch6/fig6_5", "ch6/fig6_6")
+_ALL = _SIMS + ("ch6/fig6_4", "ch6/fig6_5", "ch6/fig6_6")
+
+DEPARTURES: tuple[Departure, ...] = (
+    Departure(
+        id="ch6.simulated_oncilla", kind="deviation", results=_ALL,
+        thesis="§6.2, §6.7: the controller is trained and tested on the physical Oncilla on a "
+               "treadmill that servos its speed to keep the robot centred, with an assistant "
+               "beside it; no simulation model is used.",
+        ours="The simulated Oncilla of chapter 3 (thesis.physics.models.oncilla) walking on "
+             "an open flat floor: no treadmill, no tether, nobody catching a fall.",
+        why="The robot is out of reach; every chapter runs on the shared engine.",
+    ),
+    Departure(
+        id="ch6.teacher_gait", kind="deviation", results=_ALL,
+        thesis="§6.4: the teacher is a stable trot from previous work at 1.7 Hz and about "
+               "0.76 m/s; its parameters are not printed.",
+        ours="A screen (thesis.embodied.teacher) of chapter 3's optimised half-ellipse and "
+             "spline trots, each at 1.7 Hz with its stride scaled by each configured factor, "
+             "run open loop through the whole protocol including the power-off; the fastest "
+             "candidate that stays up and walks again after power-on is the teacher (if none "
+             "passes, the one upright longest, recorded as not passed). Its speed is what "
+             "the simulated robot reaches, not 0.76 m/s.",
+        why="The thesis's own gaits fall over within seconds on this model (CH456 §1.3), so "
+            "the teacher must be a gait that this robot can run for the whole protocol.",
+        config=("ch6.teacher.frequency", "ch6.teacher.families", "ch6.teacher.stride_scales"),
+        paper_keys=("sec6.4/target_gait_frequency", "sec6.4/target_gait_speed"),
+    ),
+    Departure(
+        id="ch6.walk_teacher", kind="choice", results=("ch6/teacher", "ch6/walk", "ch6/fig6_5"),
+        thesis="§6.5: a walking gait in which each leg has a different phase; its phasing, "
+               "duty factor and frequency are not given.",
+        ours="The teacher screen's loci with a lateral-sequence walk's phase offsets (LF 0.25, "
+             "RF 0.75, LH 0, RH 0.5 cycles), duty factor 0.75 and 1.7 Hz (the frequency that "
+             "makes the printed B = 12 = 103 ms equal 17.5 % of the period).",
+        why="Hildebrand's lateral sequence is the common quadruped walk; a duty factor of 0.75 "
+            "keeps three feet on the ground.",
+        config=("ch6.walk.phase_offsets", "ch6.walk.duty", "ch6.teacher.frequency"),
+    ),
+    Departure(
+        id="ch6.controller_period", kind="deviation", results=_SIMS,
+        thesis="§6.2: the controller period is on average 8.2 ms and varies by up to 15 % with "
+               "the controller's computational load.",
+        ours="A constant period of 8.2 ms: 4 physics steps of 2.05 ms with the command held; "
+             "no jitter.",
+        why="A fixed period keeps a sweep in one compiled simulation; the jitter's effect is "
+            "not studied in the thesis either. 2.05 ms is finer than the chapter 3 model's "
+            "2.5 ms, so the engine is at least as stable.",
+        config=("ch6.model.dt", "ch6.control.substeps"),
+        paper_keys=("sec6.2/controller_dt", "sec6.2/controller_dt_variation"),
+    ),
+    Departure(
+        id="ch6.encoders", kind="choice", results=_LEARNED,
+        thesis="§6.1-6.2: the 8 rotary encoders in the hip and knee motors; the knee is "
+               "flexed through a cable against an extension spring.",
+        ours="The hip servo's joint angle and the knee motor's side of the cable (the "
+             "femur-to-drum hinge of the model), in the thesis's joint angles; the tibia "
+             "angle behind the cable and spring is not sensed.",
+        why="'Rotary encoders in the motors' measure the motor side.",
+        paper_keys=("sec6.2/encoders",),
+    ),
+    Departure(
+        id="ch6.normalisation_and_noise", kind="choice", results=_LEARNED,
+        thesis="§6.4: the robot first runs 5 s with the teacher to reach steady state, the "
+               "mean and standard deviation of each sensor over these 5 s normalise the "
+               "inputs, and Gaussian noise 'with an amplitude of 0.01' is added during "
+               "training.",
+        ours="Before the 5-s normalisation the teacher's command eases from the standing pose "
+             "into the gait's first pose (settle); the statistics are those of the 5 s; the "
+             "noise has standard deviation 0.01 on each normalised input during both "
+             "training stages and none afterwards.",
+        why="The easing keeps the first command from jumping (as in chapter 3); 'amplitude' "
+            "is read as the standard deviation.",
+        config=("ch6.protocol.settle", "ch6.protocol.normalisation", "ch6.control.input_noise"),
+        paper_keys=("sec6.4/normalisation_seconds", "sec6.4/input_noise"),
+    ),
+    Departure(
+        id="ch6.mixing_schedule", kind="choice", results=_LEARNED,
+        thesis="§6.4: in the second stage the motor signals are mixtures of teacher and "
+               "output, 'the fraction of the target signals is reduced over time until it "
+               "becomes zero'; the schedule is not given.",
+        ours="The teacher's share falls linearly from 1 to 0 over the second stage; RLS "
+             "learns towards the teacher's command throughout.",
+        why="The simplest schedule that matches the text.",
+        config=("ch6.protocol.stage_seconds",),
+        paper_keys=("sec6.4/stage_seconds",),
+    ),
+    Departure(
+        id="ch6.power_off", kind="choice", results=_SIMS,
+        thesis="§6.4: the controller must return to its gait 'after the motors have been "
+               "powered off and are powered back on'; how long they are off and how long the "
+               "gait may take to return are not stated.",
+        ours="After the 30-s running stage the servos' maximal torque is 0 for 1 s (a "
+             "separate sweep varies it) with the controller running throughout, then "
+             "restored for 10 s of recovery; the gait must be back from 5 s after power-on.",
+        why="Long enough for the legs to fold under the body, short enough to be a "
+            "disturbance rather than a restart.",
+        config=("ch6.protocol.power_off", "ch6.protocol.recovery",
+                "ch6.criteria.recovery_within", "ch6.power_off.seconds"),
+    ),
+    Departure(
+        id="ch6.success_criteria", kind="choice", results=_LEARNED,
+        thesis="§6.4: 'run stably for 30 seconds' and 'return to its gait' after power-on; "
+               "three failure modes (output dies out, erratic motion, no return); no "
+               "numbers.",
+        ours="Per run (thesis.embodied.criteria): not fallen (trunk below 0.08 m or tilted "
+             "beyond 60 degrees) from the first training stage to power-off; on the last "
+             "10 s of running the hip and knee outputs' amplitude 0.5-2 times the "
+             "teacher's and their dominant frequency within 10 % of the teacher's with an "
+             "autocorrelation of at least 0.5 at one teacher period; from 5 s after "
+             "power-on the same, upright, and forward speed above 0.05 m/s.",
+        why="Each threshold turns one of the thesis's words into a measurement; they were "
+            "fixed in the profile before any controller was trained.",
+        config=("ch6.criteria",),
+        paper_keys=("sec6.4/stable_run_seconds",),
+    ),
+    Departure(
+        id="ch6.seeds_and_rates", kind="choice", results=_LEARNED,
+        thesis="§6.5: one training run per configuration on one robot; 'minimal' values are "
+               "where the controller 'fails to find a stable attractor'.",
+        ours="Every configuration is trained and tested once per seed (its own standard "
+             "normal hidden layer and training noise; a seed shares them across "
+             "configurations, a smaller H using the first units of a larger one); claims "
+             "are decided from success rates over seeds, and minimal values are reported "
+             "per seed as the smallest grid value from which the seed succeeds at every "
+             "larger one.",
+        why="A single run cannot separate the configuration from the draw of its random "
+            "hidden layer.",
+        config=("ch6.seeds", "ch6.minimal_hidden.hidden", "ch6.minimal_buffer.buffer",
+                "ch6.minimal_training.stage_seconds"),
+    ),
+    Departure(
+        id="ch6.linear_feedback", kind="choice", results=("ch6/linear_feedback", "ch6/fig6_6"),
+        thesis="§6.3.1: 'a linear transformation from the sensor signals to the motor "
+               "signals' was tried and gave an unstable gait; how it was trained is not "
+               "stated.",
+        ours="The same protocol and RLS readout on x_rls = [x; 1], the 8 normalised encoders "
+             "and a constant (N = 9), no hidden layer and no buffer.",
+        why="It differs from the other controllers only in the missing transformation.",
+    ),
+    Departure(
+        id="ch6.phase1_only", kind="choice", results=("ch6/phase1_only",),
+        thesis="§6.4: after the first training stage alone the controller 'fails to find a "
+               "stable attractor'; the test is not described.",
+        ours="The trot controller trained by the first stage only: the running stage starts "
+             "right after it (no mixing stage), then the same power-off and recovery.",
+        why="It removes exactly the stage the thesis says is needed.",
+    ),
+    Departure(
+        id="ch6.fig6_6_curves", kind="choice", results=("ch6/fig6_6",),
+        thesis="Fig. 6.6: curves 'without time window', 'with reduced number of hidden "
+               "neurons' and one that failed for lack of signals; H and B of each are not "
+               "given. §6.6 relates 'the MSE during training' to N and to failure.",
+        ours="Curves of H = 128 and 256 at B = 0, of H = 12 at B = 16 and 20, and of H = 12 "
+             "at B = 0; the training MSE of a run is the a priori MSE of the 12 outputs over "
+             "the second half of the first training stage (teacher driving).",
+        why="The settings bracket the thesis's minimal values; the first stage's error "
+            "measures how well the signals fit the teacher without the controller's own "
+            "errors in the loop.",
+        config=("ch6.fig6_6.curves",),
+    ),
+)
