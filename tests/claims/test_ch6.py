@@ -14,7 +14,7 @@ SEEDS = 5
 
 
 def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
-          outcome=None, curve=None, period=0.588) -> xr.Dataset:
+          outcome=None, curve=None, period=0.588, running=30.0) -> xr.Dataset:
     """A sweep dataset: ``success`` (n_config, SEEDS) 0/1, per-config H, B, stages."""
     n = len(configs)
     success = np.asarray(success, float).reshape(n, SEEDS)
@@ -24,9 +24,10 @@ def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
     mse = np.asarray(mse if mse is not None else np.full((n, SEEDS), 0.01), float)
     if outcome is None:
         outcome = np.where(success == 1, "stable", "erratic")
-    t = np.arange(0, 20, 0.05)
     if curve is None:
+        t = np.arange(0, 20, 0.05)
         curve = 0.5 * np.exp(-t / 0.3) + 0.002
+    t = np.arange(len(curve)) * 0.05
     c = np.broadcast_to(curve, (n, SEEDS, t.size))
     dims = ("config", "seed")
     return xr.Dataset(
@@ -37,7 +38,8 @@ def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
              hidden=(("config",), hidden), buffer=(("config",), buffer),
              n_signals=(("config",), (buffer + 1) * hidden + 1),
              stage1_seconds=(("config",), stage), gait_period=(("config",), np.full(n, period))),
-        coords=dict(config=list(configs), seed=np.arange(SEEDS), train_time=t))
+        coords=dict(config=list(configs), seed=np.arange(SEEDS), train_time=t),
+        attrs=dict(protocol_running=running))
 
 
 def rows(*rates):
@@ -150,19 +152,24 @@ def test_memory_and_nonlinearity():
     assert v.status == "inconclusive"
 
 
-def _fig6_6(mse_of_n, success_of_mse, seeds=SEEDS, seed=0):
+def _fig6_6(mse_of_n, success_of_mse, seeds=SEEDS, seed=0, running=30.0):
     rng = np.random.default_rng(seed)
     hidden = np.array([8, 32, 64, 128, 256, 12, 12, 12, 50])
     buffer = np.array([0, 0, 0, 0, 0, 0, 8, 16, 5])
     n = (buffer + 1) * hidden + 1
     mse = mse_of_n(n)[:, None] * np.exp(0.1 * rng.standard_normal((n.size, seeds)))
     succ = success_of_mse(mse).astype(float)
+    # linear feedback (H = 0, N = 9): the lowest MSE and failing; context, not tested
+    hidden, buffer, n = np.append(hidden, 0), np.append(buffer, 0), np.append(n, 9)
+    mse = np.vstack([mse, np.full((1, seeds), 1e-6)])
+    succ = np.vstack([succ, np.zeros((1, seeds))])
     dims = ("setting", "seed")
     return xr.Dataset(
         dict(train_mse=(dims, mse, dict(units="rad2")), success=(dims, succ, dict(units="1")),
              n_signals=(("setting",), n.astype(float)), hidden=(("setting",), hidden),
              buffer=(("setting",), buffer)),
-        coords=dict(setting=[f"s{i}" for i in range(n.size)], seed=np.arange(seeds)))
+        coords=dict(setting=[f"s{i}" for i in range(n.size)], seed=np.arange(seeds)),
+        attrs=dict(protocol_running=running))
 
 
 def test_signal_count_and_ch8():
@@ -174,6 +181,9 @@ def test_signal_count_and_ch8():
         assert c.check({"ch6/fig6_6": good}).status == "reproduced"
         assert c.check({"ch6/fig6_6": bad}).status == "not_reproduced"
         assert c.check({"ch6/fig6_6": flat}).status == "inconclusive"
+    v = claims.get("ch6.signal_count_determines_performance").check({"ch6/fig6_6": good})
+    assert v.measured["mse_falls_with_n.n_settings"] == 9
+    assert v.measured["mse_falls_with_n.linear_feedback_median_train_mse"] == 1e-6
 
 
 def test_mse_drops_rapidly():
@@ -191,6 +201,40 @@ def test_linear_feedback():
     works = sweep(["linear"], rows(5), hidden=[0], buffer=[0])
     assert check("ch6.linear_feedback_insufficient",
                  linear_feedback=works).status == "not_reproduced"
+
+
+def test_a_profile_too_short_for_the_sentence_is_inconclusive():
+    """Smoke-sized protocols (3-s running, 2-s stages) cannot test "stable for 30 s": every
+    rate-based claim is inconclusive there, whatever the rates."""
+    short = dict(running=3.0)
+    works, fails = rows(5), rows(0)
+    cases = {
+        "ch6.trot_h50_b5_stable": dict(trot=sweep(["h50_b5"], works, **short)),
+        "ch6.linear_feedback_insufficient": dict(
+            linear_feedback=sweep(["linear"], fails, hidden=[0], buffer=[0], **short)),
+        "ch6.phase1_only_fails": dict(trot=sweep(["h50_b5"], works, **short),
+                                      phase1_only=sweep(["p1"], fails, **short)),
+        "ch6.extends_to_walk": dict(
+            trot=sweep(["h50_b5"], works),
+            walk=sweep(["walk_h50_b12", "trot_settings_h50_b5"], rows(5, 0), buffer=[12, 5],
+                       stage=[3.0, 2.0])),
+        "ch6.memoryless_feedback_trots": dict(minimal_hidden=sweep(
+            [f"h{h}_b0" for h in HS], rows(0, 0, 1, 4, 5, 5, 5), hidden=HS, buffer=[0] * 7,
+            stage=[2.0] * 7)),
+        "ch6.learns_in_a_couple_of_strides": dict(minimal_training=sweep(
+            ["a", "b"], rows(5, 5), hidden=[250] * 2, buffer=[0] * 2, stage=[0.59, 1.18],
+            **short)),
+    }
+    for cid, res in cases.items():
+        v = check(cid, **res)
+        assert v.status == "inconclusive" and "not testable" in v.detail, (cid, v)
+    v = check("ch6.signal_count_determines_performance",
+              fig6_6=_fig6_6(lambda n: 1.0 / n, lambda m: m < 0.01, running=3.0))
+    assert v.status == "inconclusive" and "not testable" in v.detail
+    t = np.arange(0, 4, 0.05)
+    v = check("ch6.mse_drops_rapidly", trot=sweep(["h50_b5"], works, stage=[2.0],
+                                                  curve=0.5 * np.exp(-t / 0.3) + 0.002))
+    assert v.status == "inconclusive"
 
 
 def test_missing_and_malformed_data_are_not_run():

@@ -18,6 +18,9 @@ Decision rules (fixed before the default results were computed):
   :data:`thesis.claims.stats.MIN_SEEDS` seeds a configuration is unclear. The thesis
   reports one run per configuration on one robot; here every configuration is trained
   and tested once per seed (its own hidden layer and training noise).
+* **Not testable in a profile** whose running stage is shorter than the thesis's 30 s
+  (dataset attribute ``protocol_running``) or whose training stages are shorter than the
+  thesis's (10 s; 30 s for the walk): the verdict is inconclusive, whatever the rates.
 * "Minimal" values (H at B = 0, B at H = 12, the stage length at H = 250) are reported
   per seed: the smallest grid value from which that seed succeeds at every larger grid
   value (NaN: it does not succeed at the largest); the thesis's value is context, not
@@ -147,11 +150,41 @@ def _spread(x) -> dict:
             "n_seeds_with_value": int(f.size), "n_seeds": int(x.size)}
 
 
+def short_setup(results: Results, key: str, stage_key: str | None = "sec6.4/stage_seconds",
+                config: str | None = None) -> str | None:
+    """Why the profile cannot test a sentence on ``key`` (None if it can): its running stage
+    is shorter than the thesis's 30 s, or (``stage_key``) its training stages of ``config``
+    (every config if None) are shorter than the thesis's."""
+    ds = results[key]
+    if "protocol_running" not in ds.attrs:
+        raise LayoutError(f"{key} has no attribute 'protocol_running'")
+    run = float(ds.attrs["protocol_running"])
+    need = paper.get("sec6.4/stable_run_seconds").value
+    if run < need:
+        return f"the profile's running stage ({run:g} s) is shorter than the thesis's {need:g} s"
+    if stage_key is None:
+        return None
+    st = variable(results, key, "stage1_seconds", dims=("config",))
+    st = st.values if config is None else pick(st, config=config).values
+    need = paper.get(stage_key).value
+    if np.nanmin(st) < need:
+        return (f"the profile's training stages ({np.nanmin(st):g} s) are shorter than the "
+                f"thesis's {need:g} s")
+    return None
+
+
+def _untestable(reason: str, measured: dict | None = None) -> Verdict:
+    return Verdict("inconclusive", measured or {}, f"success rate over seeds; {_RULE}",
+                   f"not testable in this profile: {reason}")
+
+
 # ------------------------------------------------------------------ checks
 def trot_h50_b5_stable(results: Results) -> Verdict:
     """§6.5: the trot controller (H = 50, B = 5) is stable and returns after power-off."""
     rate, n = _rate(results, TROT)
-    return _works_claim(rate, n, "trot_h50_b5", works_is="reproduced")
+    v = _works_claim(rate, n, "trot_h50_b5", works_is="reproduced")
+    why = short_setup(results, TROT)
+    return _untestable(why, v.measured) if why else v
 
 
 def phase1_only_fails(results: Results) -> Verdict:
@@ -164,6 +197,9 @@ def phase1_only_fails(results: Results) -> Verdict:
     measured = {"phase1_only_success_rate": r1, "both_stages_success_rate": r2,
                 "n_seeds": min(n1, n2)}
     statistic = f"success rates over seeds, phase 1 only vs both stages; {_RULE}"
+    why = short_setup(results, PHASE1) or short_setup(results, TROT)
+    if why:
+        return _untestable(why, measured)
     if min(n1, n2) < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     if j1 == "works":
@@ -194,6 +230,9 @@ def memoryless_feedback_trots(results: Results) -> Verdict:
                 **{f"min_hidden_{k}": v for k, v in _spread(per_seed).items()},
                 "thesis_min_hidden": thesis_h}
     statistic = f"success rate per H at B = 0; {_RULE}; per-seed minimal H as context"
+    why = short_setup(results, HIDDEN)
+    if why:
+        return _untestable(why, measured)
     if n.min() < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     if "works" in judged:
@@ -223,6 +262,9 @@ def learns_in_couple_of_strides(results: Results) -> Verdict:
                 "limit_seconds": limit, "thesis_stage_seconds": thesis_t}
     statistic = (f"success rate per stage length (H = 250, B = 0); stages <= {limit:.3g} s "
                  f"(thesis {thesis_t:g} s + 25 %); {_RULE}")
+    why = short_setup(results, TRAINING, stage_key=None)
+    if why:
+        return _untestable(why, measured)
     if n.min() < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     if not short.any():
@@ -256,6 +298,10 @@ def extends_to_walk(results: Results) -> Verdict:
     measured = {"walk_success_rate": rw, "walk_with_trot_settings_success_rate": rc,
                 "trot_success_rate": rt, "n_seeds": min(nw, nc)}
     statistic = f"success rates over seeds of the walk, its control and the trot; {_RULE}"
+    why = (short_setup(results, WALK, "walk/stage_seconds", config=walk[0])
+           or short_setup(results, WALK, config=ctrl[0]))
+    if why:
+        return _untestable(why, measured)
     if min(nw, nc) < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     if jw == "fails":
@@ -300,6 +346,9 @@ def memory_and_nonlinearity_interchangeable(results: Results) -> Verdict:
                 "thesis_min_buffer": paper.get("minimal_buffer/min_buffer_steps").value}
     statistic = (f"minimal N = (B + 1) H + 1 among working configurations of each sweep; "
                  f"{_RULE}; equal within a factor {INTERCHANGE_FACTOR:g}")
+    why = short_setup(results, HIDDEN) or short_setup(results, BUFFER)
+    if why:
+        return _untestable(why, measured)
     if min(kh.min(), kb.min()) < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     if np.isfinite(nh) != np.isfinite(nb):
@@ -327,17 +376,24 @@ def signal_count_determines_performance(results: Results) -> Verdict:
     training MSE goes with failure. Two parts, both must hold: the Spearman correlation
     between N and the per-setting median training MSE is negative (p < 0.05), and runs
     that succeed have a lower training MSE than runs that fail (one-sided Mann-Whitney
-    p < 0.05). A part is contradicted by the opposite direction at p < 0.05."""
+    p < 0.05). A part is contradicted by the opposite direction at p < 0.05. Only the ELM
+    controller's settings (H > 0) count: N = (B + 1) H + 1 is defined for it (§6.4), and
+    Fig. 6.6 shows its optimisations; linear feedback (§6.3.1, a separate experiment) is
+    reported as context."""
+    hidden = variable(results, FIG66, "hidden", dims=("setting",)).values
+    elm = np.asarray(hidden) > 0  # the ELM controller's settings; linear feedback is context
     mse = variable(results, FIG66, "train_mse", dims=("setting", "seed"))
-    succ = variable(results, FIG66, "success", dims=("setting", "seed")).values
-    sig = variable(results, FIG66, "n_signals", dims=("setting",)).values.astype(float)
+    lin_mse = float(np.nanmedian(mse.values[~elm])) if (~elm).any() else np.nan
+    mse = mse[elm]
+    succ = variable(results, FIG66, "success", dims=("setting", "seed")).values[elm]
+    sig = variable(results, FIG66, "n_signals", dims=("setting",)).values.astype(float)[elm]
     med = np.nanmedian(mse.values, axis=1)
     ok = np.isfinite(med)
     n_seeds = int(np.isfinite(mse.values).sum(axis=1).min())
     parts = {}
     rho, p = (sps.spearmanr(sig[ok], med[ok]) if ok.sum() >= 3 else (np.nan, np.nan))
     m1 = {"spearman_rho": float(rho), "spearman_p": float(p), "n_settings": int(ok.sum()),
-          "n_seeds": n_seeds}
+          "n_seeds": n_seeds, "linear_feedback_median_train_mse": lin_mse}
     st1 = "Spearman rank correlation of N and the per-setting median training MSE"
     if ok.sum() < 4 or n_seeds < stats.MIN_SEEDS:
         parts["mse_falls_with_n"] = Verdict("inconclusive", m1, st1,
@@ -360,7 +416,11 @@ def signal_count_determines_performance(results: Results) -> Verdict:
           "n_success": int(won.size), "n_failure": int(lost.size),
           "mann_whitney_p_lower": p_less}
     st2 = "one-sided Mann-Whitney U of the training MSE, successful vs failed runs"
-    if won.size < stats.MIN_SEEDS or lost.size < stats.MIN_SEEDS:
+    why = short_setup(results, FIG66, stage_key=None)
+    if why:
+        parts["high_mse_fails"] = Verdict("inconclusive", m2, st2,
+                                          f"not testable in this profile: {why}")
+    elif won.size < stats.MIN_SEEDS or lost.size < stats.MIN_SEEDS:
         parts["high_mse_fails"] = Verdict("inconclusive", m2, st2,
                                           "fewer than 3 successful or 3 failed runs")
     elif p_less < ALPHA:
@@ -379,10 +439,13 @@ def linear_feedback_insufficient(results: Results) -> Verdict:
     rate, n = _rate(results, LINEAR)
     v = _works_claim(rate, n, "linear_feedback", works_is="not_reproduced")
     ds = results[LINEAR]
-    if "outcome" not in ds:
-        return v
-    outcomes = [str(o) for o in np.asarray(ds["outcome"].values).ravel()]
-    counts = {f"n_{o}": float(outcomes.count(o)) for o in sorted(set(outcomes))}
+    counts = {}
+    if "outcome" in ds:
+        outcomes = [str(o) for o in np.asarray(ds["outcome"].values).ravel()]
+        counts = {f"n_{o}": float(outcomes.count(o)) for o in sorted(set(outcomes))}
+    why = short_setup(results, LINEAR)
+    if why:
+        return _untestable(why, {**v.measured, **counts})
     return Verdict(v.status, {**v.measured, **counts}, v.statistic, v.detail)
 
 
@@ -395,8 +458,11 @@ def mse_drops_rapidly(results: Results) -> Verdict:
     period = float(variable(results, TROT, "gait_period", dims=("config",)).values[0])
     t = curve["train_time"].values
     first, later = t < period, (t >= RAPID_SECONDS) & (t < RAPID_SECONDS + 1.0)
-    if not later.any() or not first.any():
-        return Verdict("inconclusive", {}, "", f"training shorter than {RAPID_SECONDS + 1} s")
+    stage1 = float(variable(results, TROT, "stage1_seconds", dims=("config",)).values[0])
+    if not later.any() or not first.any() or stage1 < RAPID_SECONDS + 1.0:
+        return Verdict("inconclusive", {"stage1_seconds": stage1}, "",
+                       f"not testable in this profile: the first training stage is shorter "
+                       f"than {RAPID_SECONDS + 1:g} s")
     ratio = (curve.values[:, later].mean(axis=1) / curve.values[:, first].mean(axis=1))
     return stats.decide_threshold(ratio, bound=RAPID_RATIO, below=True,
                                   label="mse_ratio_after_2s")

@@ -300,6 +300,7 @@ def fig6_6(ctx) -> xr.Dataset:
     for v in ("hidden", "buffer", "n_signals"):
         out[v] = out[v].astype(float)
     out["train_time"].attrs.update(units="s", long_name="time since the first training stage")
-    out.attrs = dict(thesis_ref="Fig. 6.6, §6.6",
-                     seeds=[int(s) for s in out["seed"].values])
+    out.attrs = {k: v for k, v in src["trot"].attrs.items()
+                 if k.startswith(("protocol_", "criteria_"))}
+    out.attrs.update(thesis_ref="Fig. 6.6, §6.6", seeds=[int(s) for s in out["seed"].values])
     return out
