@@ -29,6 +29,8 @@ Decision rules (fixed before the default results were computed):
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from scipy import stats as sps
 
@@ -391,7 +393,9 @@ def signal_count_determines_performance(results: Results) -> Verdict:
     ok = np.isfinite(med)
     n_seeds = int(np.isfinite(mse.values).sum(axis=1).min())
     parts = {}
-    rho, p = (sps.spearmanr(sig[ok], med[ok]) if ok.sum() >= 3 else (np.nan, np.nan))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a constant MSE: rho undefined (NaN), inconclusive
+        rho, p = (sps.spearmanr(sig[ok], med[ok]) if ok.sum() >= 3 else (np.nan, np.nan))
     m1 = {"spearman_rho": float(rho), "spearman_p": float(p), "n_settings": int(ok.sum()),
           "n_seeds": n_seeds, "linear_feedback_median_train_mse": lin_mse}
     st1 = "Spearman rank correlation of N and the per-setting median training MSE"

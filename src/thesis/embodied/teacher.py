@@ -90,10 +90,9 @@ def command_table(fam, params, n_steps: int, dt: float, settle: float) -> np.nda
 
 def choose(passed, up_seconds, speed) -> int:
     """Index of the teacher among screened candidates (see the module docstring)."""
-    passed = np.asarray(passed, bool)
+    passed = np.asarray(passed, float) == 1
+    speed = np.asarray(speed, float)
     speed = np.where(np.isfinite(speed), speed, -np.inf)
-    if passed.any():
-        return int(np.argmax(np.where(passed, speed, -np.inf)))
     up = np.asarray(up_seconds, float)
-    best = up == up.max()
-    return int(np.argmax(np.where(best, speed, -np.inf)))
+    pool = np.flatnonzero(passed) if passed.any() else np.flatnonzero(up == up.max())
+    return int(pool[np.argmax(speed[pool])])
