@@ -33,8 +33,6 @@ EXPERIMENTS: dict[str, str] = {
     "ch6/minimal_hidden": "thesis.embodied.experiments:minimal_hidden",
     "ch6/minimal_buffer": "thesis.embodied.experiments:minimal_buffer",
     "ch6/minimal_training": "thesis.embodied.experiments:minimal_training",
-    "ch6/phase1_only": "thesis.embodied.experiments:phase1_only",
-    "ch6/power_off": "thesis.embodied.experiments:power_off",
     "ch6/fig6_4": "thesis.embodied.experiments:fig6_4",
     "ch6/fig6_5": "thesis.embodied.experiments:fig6_5",
     "ch6/fig6_6": "thesis.embodied.experiments:fig6_6",
@@ -59,11 +57,10 @@ BENCHMARKS: dict[str, str] = {
 #: What every chapter 6 sweep reads, and each sweep's own section (thesis.embodied).
 _CH6_RUN = ("ch6.seeds", "ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
             "ch6.record")
-_CH6_SWEEPS = {"trot": ("ch6.trot",), "walk": ("ch6.walk",), "linear_feedback": (),
-               "minimal_hidden": ("ch6.minimal_hidden",),
+_CH6_SWEEPS = {"trot": ("ch6.trot", "ch6.power_off"), "walk": ("ch6.walk",),
+               "linear_feedback": (), "minimal_hidden": ("ch6.minimal_hidden",),
                "minimal_buffer": ("ch6.minimal_buffer",),
-               "minimal_training": ("ch6.minimal_training",), "phase1_only": ("ch6.trot",),
-               "power_off": ("ch6.power_off",)}
+               "minimal_training": ("ch6.minimal_training",)}
 
 #: Configuration each experiment reads, as dotted paths, where it is narrower than its
 #: chapter's section (the default). Provenance records exactly these, Snakemake reruns

@@ -14,7 +14,7 @@ SEEDS = 5
 
 
 def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
-          outcome=None, curve=None, period=0.588, running=30.0) -> xr.Dataset:
+          outcome=None, curve=None, period=0.588, running=30.0, role=None) -> xr.Dataset:
     """A sweep dataset: ``success`` (n_config, SEEDS) 0/1, per-config H, B, stages."""
     n = len(configs)
     success = np.asarray(success, float).reshape(n, SEEDS)
@@ -37,7 +37,8 @@ def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
              mse_curve=(("config", "seed", "train_time"), c, dict(units="rad2")),
              hidden=(("config",), hidden), buffer=(("config",), buffer),
              n_signals=(("config",), (buffer + 1) * hidden + 1),
-             stage1_seconds=(("config",), stage), gait_period=(("config",), np.full(n, period))),
+             stage1_seconds=(("config",), stage), gait_period=(("config",), np.full(n, period)),
+             role=(("config",), np.array(role if role is not None else ["base"] * n))),
         coords=dict(config=list(configs), seed=np.arange(SEEDS), train_time=t),
         attrs=dict(protocol_running=running))
 
@@ -62,15 +63,23 @@ def test_trot_stable():
     assert check("ch6.trot_h50_b5_stable", trot=few).status == "inconclusive"
 
 
+def trot_with(base, phase1, offs=(), **kw):
+    """A trot dataset: base, phase-1-only and power-off configs (success counts of 5)."""
+    names = ["h50_b5", "h50_b5_phase1_only"] + [f"h50_b5_off{t:g}s" for t, _ in offs]
+    roles = ["base", "phase1_only"] + ["power_off"] * len(offs)
+    return sweep(names, rows(base, phase1, *(k for _, k in offs)), role=roles, **kw)
+
+
 def test_phase1_only():
-    trot = sweep(["h50_b5"], rows(5))
-    assert check("ch6.phase1_only_fails", trot=trot,
-                 phase1_only=sweep(["p1"], rows(0))).status == "reproduced"
-    assert check("ch6.phase1_only_fails", trot=trot,
-                 phase1_only=sweep(["p1"], rows(4))).status == "not_reproduced"
-    v = check("ch6.phase1_only_fails", trot=sweep(["h50_b5"], rows(0)),
-              phase1_only=sweep(["p1"], rows(0)))
+    assert check("ch6.phase1_only_fails", trot=trot_with(5, 0)).status == "reproduced"
+    assert check("ch6.phase1_only_fails", trot=trot_with(5, 4)).status == "not_reproduced"
+    v = check("ch6.phase1_only_fails", trot=trot_with(0, 0))
     assert v.status == "inconclusive" and "stage 2" in v.detail
+    # the base, not a power-off variant, decides the trot claim
+    assert check("ch6.trot_h50_b5_stable",
+                 trot=trot_with(4, 0, offs=[(4.0, 0)])).status == "reproduced"
+    assert check("ch6.trot_h50_b5_stable",
+                 trot=trot_with(0, 0, offs=[(0.25, 5)])).status == "not_reproduced"
 
 
 HS = [32, 64, 96, 128, 160, 192, 256]
@@ -212,8 +221,7 @@ def test_a_profile_too_short_for_the_sentence_is_inconclusive():
         "ch6.trot_h50_b5_stable": dict(trot=sweep(["h50_b5"], works, **short)),
         "ch6.linear_feedback_insufficient": dict(
             linear_feedback=sweep(["linear"], fails, hidden=[0], buffer=[0], **short)),
-        "ch6.phase1_only_fails": dict(trot=sweep(["h50_b5"], works, **short),
-                                      phase1_only=sweep(["p1"], fails, **short)),
+        "ch6.phase1_only_fails": dict(trot=trot_with(5, 0, **short)),
         "ch6.extends_to_walk": dict(
             trot=sweep(["h50_b5"], works),
             walk=sweep(["walk_h50_b12", "trot_settings_h50_b5"], rows(5, 0), buffer=[12, 5],

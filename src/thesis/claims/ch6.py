@@ -2,12 +2,14 @@
 
 Dataset contracts (``results/<profile>/ch6/<artifact>.nc``, :mod:`thesis.embodied`): every
 controller sweep (``trot``, ``walk``, ``linear_feedback``, ``minimal_hidden``,
-``minimal_buffer``, ``minimal_training``, ``phase1_only``, ``power_off``) has dims
-``config`` and ``seed`` and the variables ``success`` [1] (1: stable for the running stage
+``minimal_buffer``, ``minimal_training``) has dims ``config`` and ``seed`` and the
+variables ``success`` [1] (1: stable for the running stage
 and back in gait after power-on, :mod:`thesis.embodied.criteria`), ``outcome`` (one of
 fallen, dies_out, erratic, no_return, stable), ``train_mse`` [rad2]; per config
 ``hidden`` (H, 0 for linear feedback), ``buffer`` (B), ``n_signals`` (N),
-``stage1_seconds``; ``mse_curve`` over ``train_time`` [s]. ``fig6_6`` joins the runs with the
+``stage1_seconds``, ``role`` (``trot`` holds the base controller, role ``base``, its
+phase-1-only ablation, ``phase1_only``, and its power-off sweep, ``power_off``);
+``mse_curve`` over ``train_time`` [s]. ``fig6_6`` joins the runs with the
 profile's stage length along ``setting`` (``train_mse``, ``success``, ``n_signals``,
 ``hidden``, ``buffer``).
 
@@ -44,7 +46,6 @@ LINEAR = "ch6/linear_feedback"
 HIDDEN = "ch6/minimal_hidden"
 BUFFER = "ch6/minimal_buffer"
 TRAINING = "ch6/minimal_training"
-PHASE1 = "ch6/phase1_only"
 FIG66 = "ch6/fig6_6"
 
 #: Success rate over seeds at or above which a configuration "works".
@@ -70,11 +71,18 @@ def _success(results: Results, key: str):
     return variable(results, key, "success", dims=("config", "seed"))
 
 
-def _rate(results: Results, key: str, config: str | None = None) -> tuple[float, int]:
-    """(success rate over seeds, number of seeds) of one configuration (the only one if
-    ``config`` is None)."""
+def _rate(results: Results, key: str, config: str | None = None,
+          role: str | None = None) -> tuple[float, int]:
+    """(success rate over seeds, number of seeds) of one configuration: ``config`` by name,
+    or the one with ``role``, or the only one."""
     s = _success(results, key)
-    if config is None:
+    if config is None and role is not None:
+        roles = variable_str(results, key, "role")
+        hits = [i for i, r in enumerate(roles) if r == role]
+        if len(hits) != 1:
+            raise LayoutError(f"{key} has {len(hits)} configs with role {role!r}")
+        row = s.isel(config=hits[0]).values
+    elif config is None:
         if s.sizes["config"] != 1:
             raise LayoutError(f"{key} has {s.sizes['config']} configs; expected one")
         row = s.isel(config=0).values
@@ -82,6 +90,23 @@ def _rate(results: Results, key: str, config: str | None = None) -> tuple[float,
         row = pick(s, config=config).values
     row = row[np.isfinite(row)]
     return (float(row.mean()) if row.size else np.nan), int(row.size)
+
+
+def variable_str(results: Results, key: str, name: str) -> list[str]:
+    """A string variable over ``config`` (e.g. ``role``) as a list."""
+    ds = results[key]
+    if name not in ds.data_vars or ds[name].dims != ("config",):
+        raise LayoutError(f"{key} has no string variable {name!r} over config")
+    return [str(v) for v in ds[name].values]
+
+
+def _config_of(results: Results, key: str, role: str) -> str:
+    names = [str(c) for c in results[key]["config"].values]
+    roles = variable_str(results, key, "role")
+    hits = [n for n, r in zip(names, roles) if r == role]
+    if len(hits) != 1:
+        raise LayoutError(f"{key} has {len(hits)} configs with role {role!r}")
+    return hits[0]
 
 
 def judge(rate: float, n: int) -> str:
@@ -183,9 +208,9 @@ def _untestable(reason: str, measured: dict | None = None) -> Verdict:
 # ------------------------------------------------------------------ checks
 def trot_h50_b5_stable(results: Results) -> Verdict:
     """§6.5: the trot controller (H = 50, B = 5) is stable and returns after power-off."""
-    rate, n = _rate(results, TROT)
+    rate, n = _rate(results, TROT, role="base")
     v = _works_claim(rate, n, "trot_h50_b5", works_is="reproduced")
-    why = short_setup(results, TROT)
+    why = short_setup(results, TROT, config=_config_of(results, TROT, "base"))
     return _untestable(why, v.measured) if why else v
 
 
@@ -193,13 +218,13 @@ def phase1_only_fails(results: Results) -> Verdict:
     """§6.4: trained by the first stage alone the controller fails, while the full
     protocol (both stages) works: reproduced when phase 1 alone fails and the trot works;
     not reproduced when phase 1 alone works; else inconclusive."""
-    r1, n1 = _rate(results, PHASE1)
-    r2, n2 = _rate(results, TROT)
+    r1, n1 = _rate(results, TROT, role="phase1_only")
+    r2, n2 = _rate(results, TROT, role="base")
     j1, j2 = judge(r1, n1), judge(r2, n2)
     measured = {"phase1_only_success_rate": r1, "both_stages_success_rate": r2,
                 "n_seeds": min(n1, n2)}
     statistic = f"success rates over seeds, phase 1 only vs both stages; {_RULE}"
-    why = short_setup(results, PHASE1) or short_setup(results, TROT)
+    why = short_setup(results, TROT)
     if why:
         return _untestable(why, measured)
     if min(n1, n2) < stats.MIN_SEEDS:
@@ -295,7 +320,7 @@ def extends_to_walk(results: Results) -> Verdict:
         raise LayoutError(f"{WALK} needs one walk_* and one trot_settings_* config: {names}")
     rw, nw = _rate(results, WALK, walk[0])
     rc, nc = _rate(results, WALK, ctrl[0])
-    rt, nt = _rate(results, TROT)
+    rt, nt = _rate(results, TROT, role="base")
     jw, jc = judge(rw, nw), judge(rc, nc)
     measured = {"walk_success_rate": rw, "walk_with_trot_settings_success_rate": rc,
                 "trot_success_rate": rt, "n_seeds": min(nw, nc)}
@@ -457,12 +482,15 @@ def mse_drops_rapidly(results: Results) -> Verdict:
     """§6.6: the training MSE drops rapidly during the first seconds (trot, H = 50, B = 5):
     per seed the smoothed MSE between RAPID_SECONDS and RAPID_SECONDS + 1 s over its mean
     in the first gait period; its mean over seeds below RAPID_RATIO (rule 6)."""
-    curve = variable(results, TROT, "mse_curve", dims=("config", "seed", "train_time"))
-    curve = curve.isel(config=0)
-    period = float(variable(results, TROT, "gait_period", dims=("config",)).values[0])
+    base = _config_of(results, TROT, "base")
+    curve = pick(variable(results, TROT, "mse_curve", dims=("config", "seed", "train_time")),
+                 config=base)
+    period = float(pick(variable(results, TROT, "gait_period", dims=("config",)),
+                        config=base))
     t = curve["train_time"].values
     first, later = t < period, (t >= RAPID_SECONDS) & (t < RAPID_SECONDS + 1.0)
-    stage1 = float(variable(results, TROT, "stage1_seconds", dims=("config",)).values[0])
+    stage1 = float(pick(variable(results, TROT, "stage1_seconds", dims=("config",)),
+                        config=base))
     if not later.any() or not first.any() or stage1 < RAPID_SECONDS + 1.0:
         return Verdict("inconclusive", {"stage1_seconds": stage1}, "",
                        f"not testable in this profile: the first training stage is shorter "
@@ -481,7 +509,7 @@ CLAIMS: tuple[Claim, ...] = (
               "was able to return to its limit cycle after stopping.",
         summary=f"The trot controller H = 50, B = 5 succeeds (stable for the running stage, "
                 f"back in gait after power-on) on >= {WORKS_RATE:g} of the seeds.",
-        paper_keys=_TROT_KEYS, requires=(TROT,), reads=(f"{TROT}:success",),
+        paper_keys=_TROT_KEYS, requires=(TROT,), reads=(f"{TROT}:success", f"{TROT}:role"),
         fn=trot_h50_b5_stable,
     ),
     Claim(
@@ -490,8 +518,8 @@ CLAIMS: tuple[Claim, ...] = (
               "input and the output signals, but it fails to find a stable attractor.",
         summary="Trained by the first stage alone (no mixing stage) the H = 50, B = 5 "
                 f"controller fails (success rate <= {FAILS_RATE:g}) while both stages work.",
-        paper_keys=_TROT_KEYS, requires=(PHASE1, TROT),
-        reads=(f"{PHASE1}:success", f"{TROT}:success"), fn=phase1_only_fails,
+        paper_keys=_TROT_KEYS, requires=(TROT,),
+        reads=(f"{TROT}:success", f"{TROT}:role"), fn=phase1_only_fails,
     ),
     Claim(
         id="ch6.memoryless_feedback_trots", chapter=6, section="§6.7",

@@ -5,15 +5,14 @@ other simulation reads its choice (input ``teacher``) and trains and tests a swe
 controller configurations over the profile's seeds (:func:`thesis.embodied.sweep.run`):
 
 =================  ====================================================================
-``trot``           H = 50, B = 5 (§6.5, Fig. 6.4)
+``trot``           H = 50, B = 5 (§6.5, Fig. 6.4); with the same controller the
+                   phase-1-only ablation (§6.4) and the sweep of the motors-off duration
 ``walk``           the walk with H = 50, B = 12 and 30-s stages, and with the trot's
                    settings (H = 50, B = 5, 10-s stages) as the control (§6.5)
 ``linear_feedback`` no hidden layer: x_rls = [x; 1] (§6.3.1)
 ``minimal_hidden`` B = 0, a sweep of H (§6.5 "H = 128 ± 32")
 ``minimal_buffer`` H = 12, a sweep of B (§6.5 "B ... at least 16")
 ``minimal_training`` H = 250, B = 0, a sweep of the stage length (§6.5 "1.18 s")
-``phase1_only``    the trot's configuration trained by the first stage only (§6.4)
-``power_off``      the trot's configuration, a sweep of the motors-off duration
 =================  ====================================================================
 
 ``fig6_4`` and ``fig6_5`` extract the right hind leg's joint-space trajectories of the
@@ -172,11 +171,22 @@ def screen_metrics(trunk_pos, trunk_up, schedule: PR.Schedule, dt: float, crit) 
 
 # ------------------------------------------------------------------ controller sweeps
 def trot(ctx) -> xr.Dataset:
-    """§6.5 / Fig. 6.4: the trot with H = 50, B = 5 (``ch6.trot``)."""
-    c = ctx.config["trot"]
-    cond = Condition(_hb(c["hidden"], c["buffer"]), "trot", c["hidden"], c["buffer"],
-                     _stage(ctx.config), _stage(ctx.config), _off(ctx.config))
-    return S.run(ctx, [cond], thesis_ref="§6.5, Fig. 6.4", joint_space=True)
+    """§6.5 / Fig. 6.4: the trot with H = 50, B = 5 (``ch6.trot``, role ``base``); with the
+    same controller and seeds, trained by the first stage only (§6.4, role
+    ``phase1_only``: the running stage follows the first stage) and with the motors off
+    for each duration of ``ch6.power_off.seconds`` other than the protocol's (role
+    ``power_off``; the thesis does not state the duration). One batch: the variants share
+    the base's hidden layers and training noise seed by seed."""
+    cfg = ctx.config
+    c, st, off = cfg["trot"], _stage(cfg), _off(cfg)
+    name = _hb(c["hidden"], c["buffer"])
+    conds = [Condition(name, "trot", c["hidden"], c["buffer"], st, st, off),
+             Condition(name + "_phase1_only", "trot", c["hidden"], c["buffer"], st, 0.0, off,
+                       role="phase1_only")]
+    conds += [Condition(f"{name}_off{float(t):g}s", "trot", c["hidden"], c["buffer"], st, st,
+                        float(t), role="power_off")
+              for t in cfg["power_off"]["seconds"] if abs(float(t) - off) > 1e-9]
+    return S.run(ctx, conds, thesis_ref="§6.5, §6.4, Fig. 6.4", joint_space=True)
 
 
 def walk(ctx) -> xr.Dataset:
@@ -222,30 +232,15 @@ def minimal_training(ctx) -> xr.Dataset:
     return S.run(ctx, conds, thesis_ref="§6.5")
 
 
-def phase1_only(ctx) -> xr.Dataset:
-    """§6.4: the trot's configuration trained by the first stage only (no mixing stage)."""
-    c, st = ctx.config["trot"], _stage(ctx.config)
-    cond = Condition(_hb(c["hidden"], c["buffer"]) + "_phase1_only", "trot", c["hidden"],
-                     c["buffer"], st, 0.0, _off(ctx.config))
-    return S.run(ctx, [cond], thesis_ref="§6.4")
-
-
-def power_off(ctx) -> xr.Dataset:
-    """§6.4 power-off test: the trot's configuration, a sweep of the motors-off duration
-    (``ch6.power_off``; the thesis does not state it)."""
-    c, st = ctx.config["power_off"], _stage(ctx.config)
-    conds = [Condition(f"off{float(t):g}s", "trot", c["hidden"], c["buffer"], st, st, t)
-             for t in c["seconds"]]
-    return S.run(ctx, conds, thesis_ref="§6.4")
-
-
 # ------------------------------------------------------------------ figures from results
 _JOINT_SPACE = ("rh_teacher", "rh_learned", "success", "outcome", "n_signals", "hidden",
-                "buffer", "gait_period")
+                "buffer", "gait_period", "role")
 
 
-def _joint_space(ctx, name: str, ref: str) -> xr.Dataset:
+def _joint_space(ctx, name: str, ref: str, base_only: bool) -> xr.Dataset:
     src = xr.load_dataset(ctx.input(name))
+    if base_only:
+        src = src.isel(config=np.flatnonzero(src["role"].values == "base"))
     ds = src[list(_JOINT_SPACE)]
     ds.attrs = {k: v for k, v in src.attrs.items() if k.startswith("teacher_")
                 or k in ("controller_dt",)}
@@ -256,12 +251,12 @@ def _joint_space(ctx, name: str, ref: str) -> xr.Dataset:
 def fig6_4(ctx) -> xr.Dataset:
     """Fig. 6.4: the right hind leg in joint space, teacher and learned trot (from
     ``trot``)."""
-    return _joint_space(ctx, "trot", "Fig. 6.4")
+    return _joint_space(ctx, "trot", "Fig. 6.4", base_only=True)
 
 
 def fig6_5(ctx) -> xr.Dataset:
     """Fig. 6.5 (printed as a second "Fig. 6.4"): the same for the walk (from ``walk``)."""
-    return _joint_space(ctx, "walk", "Fig. 6.5")
+    return _joint_space(ctx, "walk", "Fig. 6.5", base_only=False)
 
 
 #: Sources of Fig. 6.6's table of runs: the sweeps with the profile's stage length.
@@ -270,12 +265,14 @@ FIG6_6_SOURCES = ("linear_feedback", "trot", "minimal_hidden", "minimal_buffer")
 
 def fig6_6(ctx) -> xr.Dataset:
     """Fig. 6.6 and §6.6: training MSE, N and outcome of every run with the profile's
-    stage length, and the MSE curves of the configured settings (``ch6.fig6_6.curves``:
+    stage length (the trot's ablation and power-off variants left out: they train like
+    its base), and the MSE curves of the configured settings (``ch6.fig6_6.curves``:
     the thesis's "without time window", "reduced number of hidden neurons" and "failed
     ... not enough signals")."""
     src = {n: xr.load_dataset(ctx.input(n)) for n in FIG6_6_SOURCES}
     parts = []
     for n, ds in src.items():
+        ds = ds.isel(config=np.flatnonzero(ds["role"].values == "base"))
         part = ds[["train_mse", "end_mse", "success", "outcome", "hidden", "buffer",
                    "n_signals", "mse_curve"]]
         part = part.assign_coords(config=[f"{n}/{c}" for c in ds["config"].values])

@@ -66,6 +66,8 @@ class Condition:
         stage1, stage2: training stage lengths [s] (``stage2 = 0``: phase 1 only).
         off: motors-off duration of the power-off test [s].
         linear: linear feedback of §6.3.1 (no hidden layer: x_rls = [x; 1]).
+        role: what the condition is within its experiment (``"base"``; the trot
+            experiment also has ``"phase1_only"`` and ``"power_off"``).
     """
 
     name: str
@@ -76,6 +78,7 @@ class Condition:
     stage2: float
     off: float
     linear: bool = False
+    role: str = "base"
 
     @property
     def n_signals(self) -> int:
@@ -255,6 +258,8 @@ def evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing, *, the
         mse_curve=(("config", "seed", "train_time"), curve, dict(
             units="rad2", long_name="a priori MSE of the 12 outputs during training, "
                                     "moving average over one gait period (Fig. 6.6)")),
+        role=(("config",), np.array([c.role for c in conditions]), dict(
+            units="1", long_name="role of the configuration in its experiment")),
         hidden=(("config",), np.array([0 if c.linear else c.hidden for c in conditions]),
                 dict(units="1", long_name="H, hidden tanh units (0: linear feedback)")),
         buffer=(("config",), np.array([c.buffer for c in conditions]),
