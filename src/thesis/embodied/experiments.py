@@ -135,9 +135,10 @@ def teacher(ctx) -> xr.Dataset:
              phase_offsets=(("gait", "leg"), np.array(
                  [T.TROT_PHASE, tuple(wc["phase_offsets"])], float), dict(
                  units="1", long_name="phase offset of each leg [cycles]")),
-             robot_seconds=((), float(sum(s.total for s in scheds)), dict(
-                 units="s", long_name="simulated robot time")),
-             robot_seconds_per_wall_second=((), float(sum(s.total for s in scheds))
+             robot_seconds=((), len(runs) * n * dt, dict(
+                 units="s", long_name="simulated robot time (every run for the longest "
+                                      "schedule)")),
+             robot_seconds_per_wall_second=((), len(runs) * n * dt
                                             / timing["rollout_seconds"], dict(
                  units="1", measurement="wall_clock",
                  long_name="simulated robot-seconds per wall-second of the rollout"))),
