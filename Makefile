@@ -4,10 +4,15 @@ SHELL := /bin/bash
 PROFILE ?= default
 # uv on PATH, else the one pip installs into this python (`python3 -m uv`, no PATH needed).
 UV := $(shell command -v uv 2>/dev/null || echo python3 -m uv)
-SNAKEMAKE := $(UV) run --locked snakemake
+# One environment for every command: the extras any documented command needs (bench: the
+# MuJoCo/MJX peers of Tab. 7.1; slurm: the SLURM executor plugin). `uv sync` removes what
+# it is not asked for, so a command that synced fewer extras would uninstall another's
+# (tests/core/test_makefile.py checks that every sync and run names the same ones).
+EXTRAS := --extra bench --extra slurm
+SNAKEMAKE := $(UV) run --locked $(EXTRAS) snakemake
 export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
 
-.PHONY: all smoke paper test test-fast env env-test uv chromium update-reference report lint clean-smoke
+.PHONY: all smoke paper test test-fast test-cluster env uv chromium update-reference report lint clean-smoke
 
 all: env
 	$(SNAKEMAKE) --config profile=$(PROFILE)
@@ -21,17 +26,17 @@ paper:
 
 # The whole test suite, including the smoke pipeline end to end, its regression against
 # tests/regression/smoke and the headless-browser check of its report.
-test: env-test chromium
-	$(UV) run --locked --extra bench pytest
+test: env chromium
+	$(UV) run --locked $(EXTRAS) pytest
 
 # Everything but the smoke pipeline (quick feedback while developing).
-test-fast: env-test
-	$(UV) run --locked --extra bench pytest -m "not pipeline and not browser"
+test-fast: env
+	$(UV) run --locked $(EXTRAS) pytest -m "not pipeline and not browser and not cluster"
 
 # Rewrite the smoke references on purpose (prints what changed).
 update-reference: env
 	$(SNAKEMAKE) --config profile=smoke
-	$(UV) run --locked python -m thesis.regression update smoke tests/regression/smoke
+	$(UV) run --locked $(EXTRAS) python -m thesis.regression update smoke tests/regression/smoke
 
 lint: env
 	$(SNAKEMAKE) --lint --config profile=smoke
@@ -41,11 +46,12 @@ uv:
 	@command -v uv >/dev/null 2>&1 || python3 -m uv --version >/dev/null 2>&1 || python3 -m pip install --quiet uv
 
 env: uv
-	$(UV) sync --locked
+	$(UV) sync --locked $(EXTRAS)
 
-# The tests also check the MJCF peer of Tab. 7.1 against MuJoCo (the optional bench extra).
-env-test: uv
-	$(UV) sync --locked --extra bench
+# The pipeline through a throwaway single-node SLURM cluster (tests/cluster; needs root:
+# installs Debian's slurm-wlm and munge, starts and stops its own daemons).
+test-cluster: env
+	$(UV) run --locked $(EXTRAS) pytest -m cluster tests/cluster
 
 # Debian's chromium for the browser test (needs root; skipped when already present).
 chromium:

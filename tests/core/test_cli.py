@@ -138,3 +138,26 @@ def test_ch2_experiments_declare_narrow_slices():
         assert cli.config_slice(other, key) == cli.config_slice(cfg, key)
     for key in ("ch2/table2_2_rnn_spn", "ch2/table2_2"):
         assert cli.config_slice(other, key) != cli.config_slice(cfg, key)
+
+
+def test_sigterm_during_an_atomic_write_leaves_nothing(tmp_path):
+    """A job killed by its scheduler (SIGTERM) removes its temporary file on the way out."""
+    import signal
+    import subprocess
+    import sys
+
+    script = (
+        "import signal, sys, time\n"
+        "from thesis import cli, store\n"
+        "signal.signal(signal.SIGTERM, cli._terminate)\n"
+        f"with store.atomic_path({str(tmp_path / 'out.nc')!r}) as tmp:\n"
+        "    tmp.write_text('half')\n"
+        "    print('ready', flush=True)\n"
+        "    time.sleep(60)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "ready"
+    assert len(list(tmp_path.iterdir())) == 1  # the temporary file exists while it works
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=30) == 128 + signal.SIGTERM
+    assert list(tmp_path.iterdir()) == []

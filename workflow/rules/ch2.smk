@@ -42,8 +42,7 @@ rule ch2_cluttered_mnist:
         bench_path("ch2", "cluttered_mnist")
     threads: 1
     resources:
-        mem_mb=8000,
-        runtime=30,
+        **res("ch2", "cluttered_mnist", mem_mb=8000, runtime=30),
     shell:
         "{THESIS} run ch2/cluttered_mnist --profile {PROFILE} --output {output.data} > {log} 2>&1"
 
@@ -74,8 +73,13 @@ for _model in CH2_MODELS:
         priority: 1 if _model == "rnn_spn" else 0
         threads: 1
         resources:
-            mem_mb=training_memory_mb(config["ch2"]["data"]),
-            runtime=600,
+            **res(
+                "ch2",
+                f"table2_2_{_model}_seed{{seed}}",
+                mem_mb=training_memory_mb(config["ch2"]["data"]),
+                runtime=600,
+                gpu=True,
+            ),
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
             "--input data={input.data} --output {output.nc} > {log} 2>&1"
@@ -98,8 +102,7 @@ rule ch2_table2_2:
         bench_path("ch2", "table2_2")
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=10,
+        **res("ch2", "table2_2", mem_mb=2000, runtime=10),
     shell:
         "{THESIS} run ch2/table2_2 --profile {PROFILE} {params.inputs} "
         "--output {output.nc} > {log} 2>&1"
@@ -119,8 +122,7 @@ rule ch2_chirpz_scaling:
         bench_path("ch2", "chirpz_scaling")
     threads: 2
     resources:
-        mem_mb=4000,
-        runtime=30,
+        **res("ch2", "chirpz_scaling", mem_mb=4000, runtime=30, gpu=True),
     shell:
         "{THESIS} run ch2/chirpz_scaling --profile {PROFILE} --output {output.nc} > {log} 2>&1"
 

@@ -19,8 +19,7 @@ rule ch3_table3_1:
         bench_path("ch3", "table3_1")
     threads: 2
     resources:
-        mem_mb=4000,
-        runtime=120,
+        **res("ch3", "table3_1", mem_mb=4000, runtime=120),
     shell:
         "{THESIS} run ch3/table3_1 --profile {PROFILE} --output {output.nc} > {log} 2>&1"
 
@@ -51,8 +50,7 @@ for _name, _what in [
             bench_path("ch3", _name)
         threads: 1
         resources:
-            mem_mb=4000,
-            runtime=60,
+            **res("ch3", _name, mem_mb=4000, runtime=60),
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} "
             "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"

@@ -6,6 +6,7 @@ import sys
 from thesis.config import validate_config
 from thesis.cli import config_slice
 from thesis.provenance import code_version
+from thesis import resources as _resources
 
 # A clear error naming the key and the allowed values, before any job runs.
 config.update(validate_config(config))
@@ -48,6 +49,25 @@ def log_path(ch, name):
 
 def bench_path(ch, name):
     return f"benchmarks/{PROFILE}/{ch}/{name}.tsv"
+
+
+# What each job needs, measured from benchmarks/<profile>/ (thesis.resources).
+RESOURCES = _resources.load()
+
+
+def res(ch, name, mem_mb, runtime, gpu=False):
+    """Cluster resources of the job benchmarked as bench_path(ch, name): the values measured
+    for this profile in workflow/resources.yaml (a name with wildcards, "x_seed{seed}",
+    takes the largest over its measured instances), else the rule's declared upper
+    estimate ``mem_mb`` [MB] and ``runtime`` [min] (a profile never measured here, e.g.
+    paper). ``gpu``: the job runs on a GPU in the paper profile (one GPU requested through
+    the SLURM plugin's ``gpu`` resource)."""
+    got = _resources.lookup(RESOURCES, PROFILE, f"{ch}/{name}") or dict(
+        mem_mb=mem_mb, runtime=runtime
+    )
+    if gpu and PROFILE == "paper":
+        got = dict(got, gpu=1)
+    return got
 
 
 def figure_path(ch, name):

@@ -24,10 +24,11 @@ rule claims:
         code=REPORT_CODE,
     log:
         f"logs/{PROFILE}/claims.log",
+    benchmark:
+        bench_path("report", "claims")
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=10,
+        **res("report", "claims", mem_mb=2000, runtime=10),
     shell:
         "{THESIS} check --profile {PROFILE} --output {output.json} > {log} 2>&1"
 
@@ -56,10 +57,11 @@ for _ch in CHAPTERS:
             code=REPORT_CODE,
         log:
             f"logs/{PROFILE}/report/figures_{_ch}.log",
+        benchmark:
+            bench_path("report", f"figures_{_ch}")
         threads: 1
         resources:
-            mem_mb=2000,
-            runtime=10,
+            **res("report", f"figures_{_ch}", mem_mb=2000, runtime=10),
         shell:
             "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
 
@@ -91,9 +93,10 @@ rule report:
         code=REPORT_CODE,
     log:
         f"logs/{PROFILE}/report/index.log",
+    benchmark:
+        bench_path("report", "index")
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=10,
+        **res("report", "index", mem_mb=2000, runtime=10),
     shell:
         "{THESIS} report --profile {PROFILE} > {log} 2>&1"

@@ -1,0 +1,77 @@
+"""thesis.resources: cluster requests measured from Snakemake benchmark files."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from thesis import resources as R
+
+HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+
+
+def _bench(path, rows):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(HEADER + "".join(
+        f"{s}\t0:00:00\t{rss}\t0\t0\t0\t0\t0\t0\t{cpu}\n" for s, rss, cpu in rows))
+
+
+def test_worst_case_over_repeated_runs(tmp_path):
+    _bench(tmp_path / "b.tsv", [(10.0, 500.0, 9.0), (30.0, 400.0, 50.0)])
+    m = R.read_benchmark(tmp_path / "b.tsv")
+    assert m == {"s": 30.0, "max_rss": 500.0, "cpu_time": 50.0, "runs": 2.0}
+
+
+def test_requirement_margins():
+    got = R.requirement({"s": 600.0, "max_rss": 1000.0, "cpu_time": 1200.0, "runs": 1})
+    assert got["mem_mb"] == 2000  # 1.5 x 1000 + 500
+    assert got["runtime"] == 30  # 3 x 10 min
+    assert got["measured"]["cores_used"] == 2.0
+    short = R.requirement({"s": 2.0, "max_rss": 100.0, "cpu_time": 1.0, "runs": 1})
+    assert short["runtime"] == R.RUNTIME_FLOOR_MIN and short["mem_mb"] == 700
+
+
+def test_empty_or_broken_benchmark_names_the_file(tmp_path):
+    (tmp_path / "e.tsv").write_text(HEADER)
+    with pytest.raises(ValueError, match="e.tsv"):
+        R.read_benchmark(tmp_path / "e.tsv")
+    (tmp_path / "x.tsv").write_text("s\tmax_rss\n1\tfoo\n")
+    with pytest.raises(ValueError, match="x.tsv"):
+        R.read_benchmark(tmp_path / "x.tsv")
+
+
+def test_update_writes_profile_section_and_keeps_unmeasured_names(tmp_path):
+    bench = tmp_path / "benchmarks"
+    _bench(bench / "smoke" / "ch3" / "table3_1.tsv", [(60.0, 700.0, 60.0)])
+    out = tmp_path / "resources.yaml"
+    changes = R.update("smoke", bench, out)
+    assert changes == ["smoke ch3/table3_1: new -> 1600 MB, 5 min"]
+    (bench / "smoke" / "ch3" / "table3_1.tsv").unlink()
+    _bench(bench / "smoke" / "ch7" / "ball.tsv", [(400.0, 1000.0, 400.0)])
+    R.update("smoke", bench, out)
+    table = yaml.safe_load(out.read_text())
+    assert set(table["smoke"]) == {"ch3/table3_1", "ch7/ball"}
+    assert table["smoke"]["ch7/ball"]["runtime"] == 20
+    with pytest.raises(ValueError, match="no benchmark files"):
+        R.update("paper", bench, out)
+
+
+def test_lookup_exact_pattern_and_missing():
+    table = {"default": {"ch2/table2_2_ffn_spn_seed0": {"mem_mb": 3000, "runtime": 40},
+                         "ch2/table2_2_ffn_spn_seed1": {"mem_mb": 3500, "runtime": 30},
+                         "ch2/table2_2_rnn_spn_seed0": {"mem_mb": 9000, "runtime": 90},
+                         "ch3/table3_1": {"mem_mb": 1600, "runtime": 10}}}
+    assert R.lookup(table, "default", "ch3/table3_1") == {"mem_mb": 1600, "runtime": 10}
+    assert R.lookup(table, "default", "ch2/table2_2_ffn_spn_seed{seed}") == {
+        "mem_mb": 3500, "runtime": 40}
+    assert R.lookup(table, "default", "ch3/fig3_4") is None
+    assert R.lookup(table, "paper", "ch3/table3_1") is None
+
+
+def test_committed_file_covers_smoke_and_default():
+    """Every measured profile's section names entries with both requests."""
+    table = R.load()
+    assert {"smoke", "default"} <= set(table)
+    for profile in ("smoke", "default"):
+        for name, entry in table[profile].items():
+            assert entry["mem_mb"] >= R.MEM_EXTRA_MB and entry["runtime"] >= 1, name
