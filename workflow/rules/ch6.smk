@@ -25,8 +25,7 @@ rule ch6_teacher:
         bench_path("ch6", "teacher")
     threads: 2
     resources:
-        mem_mb=4000,
-        runtime=30,
+        **res("ch6", "teacher", mem_mb=4000, runtime=30),
     shell:
         "{THESIS} run ch6/teacher --profile {PROFILE} "
         "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
@@ -60,8 +59,7 @@ for _name, _what in [
             bench_path("ch6", _name)
         threads: 2
         resources:
-            mem_mb=6000,
-            runtime=60,
+            **res("ch6", _name, mem_mb=6000, runtime=60),
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} "
             "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
@@ -87,8 +85,7 @@ for _fig, _src in [("fig6_4", "trot"), ("fig6_5", "walk")]:
             log_path("ch6", _fig),
         threads: 1
         resources:
-            mem_mb=2000,
-            runtime=10,
+            **res("ch6", _name, mem_mb=2000, runtime=10),
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} "
             "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
@@ -109,10 +106,11 @@ rule ch6_fig6_6:
         code=code_of("ch6"),
     log:
         log_path("ch6", "fig6_6"),
+    benchmark:
+        bench_path("ch6", "fig6_6")
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=10,
+        **res("ch6", "fig6_6", mem_mb=2000, runtime=10),
     shell:
         "{THESIS} run ch6/fig6_6 --profile {PROFILE} "
         "--input linear_feedback={input.linear_feedback} --input trot={input.trot} "
