@@ -75,6 +75,7 @@ rule report:
     output:
         html=f"reports/{PROFILE}/index.html",
         summary=f"reports/{PROFILE}/summary.md",
+        measurements=f"reports/{PROFILE}/measurements.md",
         tables=[
             report(
                 f"reports/{PROFILE}/tables/{ch}_{table}.html",

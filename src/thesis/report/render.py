@@ -22,6 +22,7 @@ from pathlib import Path
 
 from thesis import provenance, store
 from thesis.report.chapters import CHAPTERS
+from thesis.report import measurements
 from thesis.report.model import NOT_RUN, Figure, Section, Table
 
 STATUS_COLOURS = {
@@ -259,8 +260,11 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict]) -> st
 
 
 def render_report(profile: str, outdir: Path, *, config: dict | None = None,
-                  results_root: Path = store.RESULTS_DIR) -> Path:
-    """Write ``index.html``, ``summary.md`` and ``tables/*.html`` under ``outdir``."""
+                  results_root: Path = store.RESULTS_DIR,
+                  bench_root: Path = Path("benchmarks")) -> Path:
+    """Write ``index.html``, ``summary.md``, ``measurements.md`` (jobs' wall time and memory
+    from ``bench_root``, :mod:`thesis.report.measurements`) and ``tables/*.html`` under
+    ``outdir``."""
     outdir = Path(outdir)
     results = store.load_results(profile, results_root)
     claims_path = Path(results_root) / profile / "claims.json"
@@ -301,4 +305,6 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
         tmp.write_text(_summary_md(profile, sections, claims))
+    with store.atomic_path(outdir / "measurements.md") as tmp:
+        tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index
