@@ -22,11 +22,11 @@ paper:
 # The whole test suite, including the smoke pipeline end to end, its regression against
 # tests/regression/smoke and the headless-browser check of its report.
 test: env-test chromium
-	$(UV) run --locked --extra bench pytest
+	$(UV) run --locked --extra bench --extra refs pytest
 
 # Everything but the smoke pipeline (quick feedback while developing).
 test-fast: env-test
-	$(UV) run --locked --extra bench pytest -m "not pipeline and not browser"
+	$(UV) run --locked --extra bench --extra refs pytest -m "not pipeline and not browser"
 
 # Rewrite the smoke references on purpose (prints what changed).
 update-reference: env
@@ -45,7 +45,7 @@ env: uv
 
 # The tests also check the MJCF peer of Tab. 7.1 against MuJoCo (the optional bench extra).
 env-test: uv
-	$(UV) sync --locked --extra bench
+	$(UV) sync --locked --extra bench --extra refs
 
 # Debian's chromium for the browser test (needs root; skipped when already present).
 chromium:
