@@ -25,6 +25,8 @@ EXPERIMENTS: dict[str, str] = {
     "ch3/robustness": "thesis.gaits.experiments:robustness",
     "ch3/table3_2": "thesis.gaits.experiments:table3_2",
     "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
+    # ch5: terrain classification on simulated Puppy II recordings
+    "ch5/puppy_recordings": "thesis.terrain.experiments:puppy_recordings",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",

@@ -12,28 +12,33 @@ robot's class (a small, dog-sized walking robot of the Zurich AI Lab's "Puppy" l
 built from hobby servos, FACTS §6) and from what a simulation of it needs; none was
 fitted to a result of the thesis.
 
-* **Mass 1.5 kg**: trunk 1.1 kg (a 0.20 x 0.10 x 0.05 m box carrying four hobby servos
+* **Mass 1.5 kg**: trunk 1.1 kg (a 0.22 x 0.11 x 0.05 m box carrying four hobby servos
   of ~55 g, the IMU and the electronics), each leg 0.10 kg (femur 0.06 kg: servo horn
   and aluminium bracket; tibia 0.04 kg: a light rod with the paw and its force
   sensor). Small walking robots built from hobby servos weigh 1-2 kg.
-* **Legs**: hips at the trunk's lower side edges, (+-0.075, +-0.055) m from the trunk
-  centre, 0.015 m below it; femur and tibia 0.075 m each (a leg about as long as the
-  trunk is wide and a bit, as in the Puppy pictures: the robot stands ~0.15 m high).
-  Build pose: femur 20 deg forward of the downward vertical, tibia 20 deg backward of
-  it, so the knee points forward and the paw sits straight below the hip; all four legs
-  identical ("four identical legs").
+* **Legs**: hips at the trunk's lower side edges, (+-0.09, +-0.055) m from the trunk
+  centre, 0.015 m below it; femur and tibia 0.065 m each (the robot stands ~0.14 m
+  high). Build pose: femur 20 deg backward of the downward vertical, tibia 20 deg
+  forward of it, so the knee points backward and the paw sits straight below the hip;
+  all four legs identical ("four identical legs"). Probes on the isotropic floor before
+  any data existed: with the knee pointing forward, or with hips 0.15 m apart and
+  0.075 m segments, the fore-hind anti-phase sine gait pitched the robot over within
+  1-3 s at 1 Hz (and with the knee forward it walked backward); the geometry above
+  stays upright at 0.25-1.72 Hz and walks forward at 1 and 1.72 Hz.
 * **Hip servo** (the only actuator per leg): position servo, gain 50 1/s (as the
   engine's other robots), 1.0 N m and 6 rad/s (a standard hobby servo's 0.6-1.2 N m
   and 60 deg / 0.15-0.2 s); commands within +-0.8 rad of the build pose. The fastest
-  gait of Tab. 5.1 (1.72 Hz, amplitude ~0.4 rad) needs ~4.3 rad/s.
+  gait of Tab. 5.1 (1.72 Hz, amplitude 0.28 rad) needs ~3 rad/s.
 * **Passive knee**: a hinge between femur and tibia with a torsion spring (the
-  thesis's "spring attached between the upper and lower limb") of 0.6 N m/rad with a
-  preload of 0.05 rad towards extension, damping 0.005 N m s/rad, and limits: no
-  extension beyond the build pose (0 rad: the spring holds the knee against that
-  stop) and at most 1.2 rad of flexion. Standing on four legs (0.087 N m of load per
-  knee) folds a knee by ~0.1 rad; the two-leg stance and the impacts of a bound fold it
-  a few times more, which is the compliance the thesis's "passively moveable" knees
-  give. Knee angle: positive = flexion.
+  thesis's "spring attached between the upper and lower limb") of 3.0 N m/rad with a
+  preload of 0.1 rad towards extension, damping 0.005 N m s/rad, and limits: no
+  extension beyond the build pose (0 rad: the spring holds the knee against that stop)
+  and at most 1.2 rad of flexion. Standing loads a knee with ~0.08 N m, below the
+  0.3 N m preload, so the knee moves only under the larger loads of the stance and the
+  impacts of a gait: the thesis's "passively moveable" knees. With 0.6 N m/rad the
+  front knees folded by 0.45 rad when standing and the robot pitched over in a gait;
+  with 2.0 it turned over in slow (0.25 Hz) gaits.
+  Knee angle: positive = flexion.
 * **Paws**: a 12 mm contact sphere at the tibia's distal end, carrying the paw's force
   sensor. The skin's asymmetric friction is a property of the foot-floor contact,
   given by the terrain (the chapter's terrain code sets the floor material); this
@@ -67,16 +72,17 @@ LEGS = ("LF", "RF", "LH", "RH")
 #: Total mass [kg].
 MASS = 1.5
 #: Trunk size [m] (length, width, height) and mass [kg].
-TRUNK = (0.20, 0.10, 0.05)
+TRUNK = (0.22, 0.11, 0.05)
 TRUNK_MASS = 1.1
 #: Femur and tibia length [m] and mass [kg].
-FEMUR, TIBIA = 0.075, 0.075
+FEMUR, TIBIA = 0.065, 0.065
 FEMUR_MASS, TIBIA_MASS = 0.06, 0.04
 #: Hip positions relative to the trunk centre [m], LEGS order.
-HIPS = ((0.075, 0.055, -0.015), (0.075, -0.055, -0.015), (-0.075, 0.055, -0.015),
-        (-0.075, -0.055, -0.015))
-#: Build-pose inclination of femur (forward) and tibia (backward) from the vertical [rad].
-LEG_ANGLE = math.radians(20.0)
+HIPS = ((0.09, 0.055, -0.015), (0.09, -0.055, -0.015), (-0.09, 0.055, -0.015),
+        (-0.09, -0.055, -0.015))
+#: Build-pose inclination of the femur from the downward vertical [rad] (negative:
+#: backward; the tibia is inclined by the opposite angle, so the knee points backward).
+LEG_ANGLE = math.radians(-20.0)
 #: Paw contact sphere radius [m].
 PAW_RADIUS = 0.012
 #: Hip servo and knee joint names, LEGS order.
@@ -102,8 +108,8 @@ def leg_height() -> float:
 
 
 def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
-          hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=0.6,
-          knee_preload=0.05, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
+          hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=3.0,
+          knee_preload=0.1, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
           restitution=0.0, dtype=jnp.float32):
     """Build Puppy II standing on a flat floor (plane ``"floor"``, material
     ``"default"``); returns ``(Model, State)``.
@@ -138,9 +144,10 @@ def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
                   rot=_roty(-LEG_ANGLE), mass=TIBIA_MASS, color=(0.6, 0.6, 0.6))
         # hip about -y: a positive angle swings the femur forward
         b.add_hinge(f"{leg}_hip", "trunk", f"{leg}_femur", hip, (0, -1, 0))
-        # knee about +y: the tibia turning further backward relative to the femur folds
-        # the knee (flexion > 0); the stop at 0 keeps it from extending past the build pose
-        b.add_hinge(f"{leg}_knee", f"{leg}_femur", f"{leg}_tibia", knee, (0, 1, 0),
+        # knee axis chosen so that folding the knee (the paw moving towards the hip) is a
+        # positive angle; the stop at 0 keeps it from extending past the build pose
+        knee_axis = (0, 1, 0) if LEG_ANGLE > 0 else (0, -1, 0)
+        b.add_hinge(f"{leg}_knee", f"{leg}_femur", f"{leg}_tibia", knee, knee_axis,
                     limits=(0.0, knee_max_flexion))
         b.add_joint_spring(f"{leg}_knee", knee_spring, knee_damping, rest_angle=-knee_preload)
         b.add_contact_sphere(f"{leg}_tibia", PAW_RADIUS, (0, 0, -TIBIA / 2))
