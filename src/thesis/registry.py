@@ -26,7 +26,12 @@ EXPERIMENTS: dict[str, str] = {
     "ch3/table3_2": "thesis.gaits.experiments:table3_2",
     "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
     # ch5: terrain classification on simulated Puppy II recordings
-    "ch5/puppy_recordings": "thesis.terrain.experiments:puppy_recordings",
+    "ch5/puppy_recordings": "thesis.terrain.data:puppy_recordings",
+    "ch5/table5_3": "thesis.terrain.experiments:table5_3",
+    "ch5/table5_4": "thesis.terrain.experiments:table5_4",
+    "ch5/table5_5": "thesis.terrain.experiments:table5_5",
+    "ch5/table5_6": "thesis.terrain.experiments:table5_6",
+    "ch5/fig5_3": "thesis.terrain.experiments:fig5_3",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
@@ -59,6 +64,8 @@ READS: dict[str, tuple[str, ...]] = {
                              "ch2.rnn_spn"),
     "ch2/table2_2": ("ch2.seeds", "ch2.train", "ch2.ffn_spn", "ch2.rnn_spn"),
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
+    "ch5/puppy_recordings": ("ch5.model", "ch5.recordings", "ch5.gaits", "ch5.terrains",
+                             "ch5.jitter", "ch5.noise"),
     "ch7/ball": ("ch7.ball",),
     "ch7/arm_fixed": ("ch7.arm_fixed",),
     "ch7/arm_random": ("ch7.arm_random",),

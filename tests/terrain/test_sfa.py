@@ -53,3 +53,9 @@ def test_differences_stay_inside_parts():
 def test_quadratic_expansion_has_products_of_different_signals_only():
     x = np.array([[2.0, 3.0, 5.0]])
     np.testing.assert_array_equal(S.quadratic_expansion(x), [[2, 3, 5, 6, 10, 15]])
+
+
+def test_fewer_inputs_than_requested_slow_features_keeps_them_all():
+    x, _ = _mixture(2)
+    f = S.fit_sfa(x[None, :, :3], np.array([len(x)]), 4)
+    assert f.w.shape == (3, 3)

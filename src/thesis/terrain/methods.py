@@ -135,7 +135,7 @@ def fit(method: str, params: dict, weights: Draw | None, train: Parts, n_classes
         raise ValueError(f"unknown method {method!r}; one of {METHODS}")
     d = train.x.shape[2]
     k = max(1, min(d, int(round(float(params["pca_rate"]) * d))))
-    pca = PCA(n_components=k, svd_solver="full").fit(flat(train.x, train.length))
+    pca = PCA(n_components=k, svd_solver="covariance_eigh").fit(flat(train.x, train.length))
     w_in = w_res = None
     if method in _HIDDEN:
         w_in = weights.w_in[:, :k] * float(params["input_scaling"])
@@ -152,7 +152,7 @@ def fit(method: str, params: dict, weights: Draw | None, train: Parts, n_classes
     slow = flat(f.sfa.transform(h), train.length)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # FastICA convergence warnings: max_iter is ours
-        f.ica = FastICA(n_components=n_slow, whiten="unit-variance", random_state=ica_seed,
+        f.ica = FastICA(n_components=slow.shape[1], whiten="unit-variance", random_state=ica_seed,
                         max_iter=ica_max_iter).fit(slow)
     f.bayes = readout.fit_bayes(f.ica.transform(slow), labels, n_classes, n_bins)
     return f

@@ -60,8 +60,8 @@ def fit_sfa(x: np.ndarray, lengths: np.ndarray, n_components: int,
     Args:
         x: (P, T, D) signals; lengths: (P,) valid steps; n_components: outputs kept.
         rel_eps: relative variance below which a whitened direction is dropped.
-    Raises:
-        ValueError: fewer usable directions than ``n_components``.
+    With fewer usable input directions than ``n_components`` (SFA2 on a PCA of 2
+    components has 3 signals), every direction is kept: fewer slow features.
     """
     x = np.asarray(x, np.float64)
     lengths = np.asarray(lengths, int)
@@ -72,9 +72,7 @@ def fit_sfa(x: np.ndarray, lengths: np.ndarray, n_components: int,
     ev, vec = np.linalg.eigh(cov)
     keep = ev > rel_eps * max(float(ev.max()), 1e-300)
     white = vec[:, keep] / np.sqrt(ev[keep])
-    if white.shape[1] < n_components:
-        raise ValueError(f"SFA: only {white.shape[1]} usable input directions, "
-                         f"{n_components} slow features requested")
+    n_components = min(int(n_components), white.shape[1])  # fewer inputs: all of them
     dz = part_differences(x, lengths) @ white
     dcov = dz.T @ dz / max(len(dz), 1)
     dev, dvec = np.linalg.eigh(dcov)
