@@ -170,3 +170,26 @@ def test_single_gait_contradicted():
 
 def test_missing_datasets_are_not_run():
     assert check("ch5.train_test_gap", table5_3=table5_3()).status == "not_run"
+
+
+def test_too_small_a_profile_is_inconclusive_whatever_the_numbers():
+    r = dict(table5_3=table5_3(), table5_4=table5_4(), table5_5=table5_5(),
+             table5_6=table5_6(), fig5_3=fig5_3())
+    for ds in r.values():
+        ds.attrs["cma_generations"] = 1
+    r["fig5_3"].attrs["min_train_trials"] = 1
+    for cid in ("ch5.limited_sensor_selection_suffices", "ch5.nonlinearity_needed",
+                "ch5.reservoir_beats_quadratic_expansion", "ch5.train_test_gap",
+                "ch5.generalises_to_frequencies_not_gaits",
+                "ch5.single_gait_unsupervised_better"):
+        v = check(cid, **r)
+        assert v.status == "inconclusive", (cid, v.detail)
+        assert "cannot test" in v.detail
+    small = table5_4()
+    small = small.sel(nodes=[25, 50])  # no 100-node layer (the smoke profile's case)
+    for cid in ("ch5.reservoir_better_with_few_sensors",
+                "ch5.rc_and_elm_equal_with_enough_inputs"):
+        v = check(cid, table5_4=small)
+        assert v.status == "inconclusive" and "100-node" in v.detail, (cid, v.detail)
+    v = claims.get("ch8.ch5_memory_important").check({"ch5/table5_4": small})
+    assert v.status == "inconclusive"

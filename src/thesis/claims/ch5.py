@@ -25,13 +25,21 @@ Decision margins, fixed in code before any default result was looked at (CH456 ย
 - :data:`NON_INFERIORITY` = 5 points: "a limited selection suffices" holds when the
   interval of (minimal - useful) RC test accuracy lies above -5 points;
 - Node count of the "100 hidden nodes" comparisons: :data:`NODES` (100), or the profile's
-  count nearest to it when 100 was not run (smoke).
+  count nearest to it when 100 was not run (smoke);
+- What a profile must have run for a verdict (else "inconclusive", the decided verdict
+  kept in the detail): every tuning of at least :data:`MIN_GENERATIONS` CMA-ES
+  generations (ยง5.4.1.1 optimises all parameters; one generation is a random search of
+  lambda points around the start), :data:`NODES` hidden nodes where the sentence or the
+  table compares at 100, and at least :data:`MIN_TRAIN_TRIALS` training trials per terrain
+  scored in Fig. 5.3.
 
 Everything is decided per seed (reservoir/ELM draws and sample selections), with the rules
 of :mod:`thesis.claims.stats`.
 """
 
 from __future__ import annotations
+
+import functools
 
 import numpy as np
 from scipy import stats as sps
@@ -46,6 +54,8 @@ EQUIVALENCE_MARGIN = 5.0
 LR_GAP = 10.0
 NON_INFERIORITY = 5.0
 NODES = 100
+MIN_GENERATIONS = 3
+MIN_TRAIN_TRIALS = 5
 
 
 def _t53(selections, methods=("lr", "rc"), split="test"):
@@ -90,7 +100,44 @@ def _with(v: Verdict, **extra) -> Verdict:
     return Verdict(v.status, {**v.measured, **extra}, v.statistic, v.detail)
 
 
+def _untestable(results: Results, keys: tuple[str, ...], nodes_of: tuple[str, ...]) -> str:
+    """Why the profile behind ``keys`` cannot test the sentence ("" when it can)."""
+    why = []
+    for k in keys:
+        attrs = results[k].attrs
+        g = attrs.get("cma_generations")
+        if g is not None and int(g) < MIN_GENERATIONS:
+            why.append(f"{k} tuned by {int(g)} CMA-ES generation(s) (< {MIN_GENERATIONS})")
+        m = attrs.get("min_train_trials")
+        if m is not None and int(m) < MIN_TRAIN_TRIALS:
+            why.append(f"{k} scores terrains with {int(m)} training trial(s) "
+                       f"(< {MIN_TRAIN_TRIALS})")
+    for k in nodes_of:
+        ds = results[k]
+        if "nodes" in ds.coords and NODES not in np.asarray(ds["nodes"].values, int):
+            why.append(f"{k} has no {NODES}-node layer (ran {ds['nodes'].values.tolist()})")
+    return "; ".join(why)
+
+
+def _guard(*keys: str, nodes_of: tuple[str, ...] = ()):
+    """Make a check inconclusive when the profile cannot test its sentence
+    (:func:`_untestable`); the decided verdict stays in the detail and the measurements."""
+    def wrap(fn):
+        @functools.wraps(fn)
+        def check(results: Results) -> Verdict:
+            v = fn(results)
+            why = _untestable(results, keys, nodes_of)
+            if not why or v.status == "not_run":
+                return v
+            return Verdict("inconclusive", v.measured, v.statistic,
+                           f"this profile cannot test the sentence: {why} (decided on its "
+                           f"numbers: {v.status}: {v.detail})")
+        return check
+    return wrap
+
+
 # ------------------------------------------------------------------ checks
+@_guard(T53)
 def limited_selection_suffices(results: Results) -> Verdict:
     """RC test accuracy on minimal is not more than NON_INFERIORITY below that on useful."""
     per = _acc(results, T53, ("selection",), method="rc", split="test")
@@ -101,6 +148,7 @@ def limited_selection_suffices(results: Results) -> Verdict:
                  rc_useful=float(np.mean(_s(per, selection="useful").values)))
 
 
+@_guard(T53, T54, nodes_of=(T54,))
 def nonlinearity_needed(results: Results) -> Verdict:
     """RC beats LR on every group (Tab. 5.3), and with the hidden layer of the compared size
     ELM and RC beat LR by at least LR_GAP points on touch and minimal (Tab. 5.4)."""
@@ -117,6 +165,7 @@ def nonlinearity_needed(results: Results) -> Verdict:
     return stats.combine(parts)
 
 
+@_guard(T55)
 def reservoir_beats_quadratic(results: Results) -> Verdict:
     """RC-SFA test accuracy exceeds SFA2's on every group (rule 4 each); the measured gaps
     are reported beside the thesis's 12.8-27.1 points."""
@@ -126,6 +175,7 @@ def reservoir_beats_quadratic(results: Results) -> Verdict:
         higher_is_better=True, label_a="rc_sfa", label_b="sfa2") for s in _SEL})
 
 
+@_guard(T54, nodes_of=(T54,))
 def rc_beats_elm_on_touch(results: Results) -> Verdict:
     """On touch, RC test accuracy exceeds the leaky ELM's (Tab. 5.4, rule 4)."""
     elm, rc, _, n = _t54(results, "touch")
@@ -133,6 +183,7 @@ def rc_beats_elm_on_touch(results: Results) -> Verdict:
                                     label_b="elm"), nodes=n)
 
 
+@_guard(T54, nodes_of=(T54,))
 def rc_elm_equal_on_minimal(results: Results) -> Verdict:
     """On minimal, RC and ELM test accuracies differ by less than EQUIVALENCE_MARGIN
     (Tab. 5.4, rule 5)."""
@@ -141,6 +192,7 @@ def rc_elm_equal_on_minimal(results: Results) -> Verdict:
                                          label="rc_minus_elm"), nodes=n)
 
 
+@_guard(T56)
 def recurrence_no_difference_unsupervised(results: Results) -> Verdict:
     """Tab. 5.6: RC-SFA and ELM-SFA test accuracies (mean over node counts) differ by less
     than EQUIVALENCE_MARGIN (rule 5)."""
@@ -150,6 +202,7 @@ def recurrence_no_difference_unsupervised(results: Results) -> Verdict:
                                    margin=EQUIVALENCE_MARGIN, label="rc_sfa_minus_elm_sfa")
 
 
+@_guard(T53)
 def tactile_important(results: Results) -> Verdict:
     """agt beats imu and leg beats joints (test), for LR and for RC (rule 4 each)."""
     per = _acc(results, T53, ("selection", "method"), split="test")
@@ -178,6 +231,7 @@ def _recall(results: Results, test: str) -> np.ndarray:
     return out
 
 
+@_guard(F53)
 def frequencies_not_gaits(results: Results) -> Verdict:
     """Trained on bound right at 1 Hz: mean recall (terrains with enough training trials)
     on unseen frequencies exceeds that on unseen gaits (rule 4)."""
@@ -186,6 +240,7 @@ def frequencies_not_gaits(results: Results) -> Verdict:
                               label_b="gait_recall")
 
 
+@_guard(T53)
 def rc_touch_best_overall(results: Results) -> Verdict:
     """RC on touch beats every other (group, method) cell of Tab. 5.3 (test, rule 4 each)."""
     per = _acc(results, T53, ("selection", "method"), split="test")
@@ -196,6 +251,7 @@ def rc_touch_best_overall(results: Results) -> Verdict:
         for s in _SEL for m in ("lr", "rc") if (s, m) != ("touch", "rc")})
 
 
+@_guard(T53)
 def lr_improves_with_dimensionality(results: Results) -> Verdict:
     """Per seed, Spearman rho between group size and LR test accuracy over the 8 groups is
     above 0 (rule 6)."""
@@ -206,6 +262,7 @@ def lr_improves_with_dimensionality(results: Results) -> Verdict:
     return stats.decide_threshold(rho, bound=0.0, below=False, label="spearman_rho")
 
 
+@_guard(T53, T55)
 def train_test_gap(results: Results) -> Verdict:
     """Train accuracy exceeds test accuracy for LR, RC (Tab. 5.3), SFA2 and RC-SFA
     (Tab. 5.5), per seed averaged over the groups (rule 4 each)."""
@@ -220,6 +277,7 @@ def train_test_gap(results: Results) -> Verdict:
     return stats.combine(parts)
 
 
+@_guard(T55, T56, nodes_of=(T56,))
 def single_gait_unsupervised_better(results: Results) -> Verdict:
     """RC-SFA test accuracy on minimal with bound-right trials only (Tab. 5.6, the compared
     node count) exceeds that with all gaits (Tab. 5.5), paired by seed index (rule 4)."""
