@@ -5,10 +5,11 @@ PROFILE ?= default
 # uv on PATH, else the one pip installs into this python (`python3 -m uv`, no PATH needed).
 UV := $(shell command -v uv 2>/dev/null || echo python3 -m uv)
 # One environment for every command: the extras any documented command needs (bench: the
-# MuJoCo/MJX peers of Tab. 7.1; slurm: the SLURM executor plugin). `uv sync` removes what
+# MuJoCo/MJX peers of Tab. 7.1; slurm: the SLURM executor plugin; refs: the independent
+# ESN/SFA implementations the ch5 tests compare with). `uv sync` removes what
 # it is not asked for, so a command that synced fewer extras would uninstall another's
 # (tests/core/test_makefile.py checks that every sync and run names the same ones).
-EXTRAS := --extra bench --extra slurm
+EXTRAS := --extra bench --extra slurm --extra refs
 SNAKEMAKE := $(UV) run --locked $(EXTRAS) snakemake
 export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
 

@@ -36,6 +36,13 @@ EXPERIMENTS: dict[str, str] = {
     "ch6/fig6_4": "thesis.embodied.experiments:fig6_4",
     "ch6/fig6_5": "thesis.embodied.experiments:fig6_5",
     "ch6/fig6_6": "thesis.embodied.experiments:fig6_6",
+    # ch5: terrain classification on simulated Puppy II recordings
+    "ch5/puppy_recordings": "thesis.terrain.data:puppy_recordings",
+    "ch5/table5_3": "thesis.terrain.experiments:table5_3",
+    "ch5/table5_4": "thesis.terrain.experiments:table5_4",
+    "ch5/table5_5": "thesis.terrain.experiments:table5_5",
+    "ch5/table5_6": "thesis.terrain.experiments:table5_6",
+    "ch5/fig5_3": "thesis.terrain.experiments:fig5_3",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
@@ -82,6 +89,8 @@ READS: dict[str, tuple[str, ...]] = {
     "ch6/fig6_4": ("ch6.seeds",),
     "ch6/fig6_5": ("ch6.seeds",),
     "ch6/fig6_6": ("ch6.fig6_6",),
+    "ch5/puppy_recordings": ("ch5.model", "ch5.recordings", "ch5.gaits", "ch5.terrains",
+                             "ch5.jitter", "ch5.noise"),
     "ch7/ball": ("ch7.ball",),
     "ch7/arm_fixed": ("ch7.arm_fixed",),
     "ch7/arm_random": ("ch7.arm_random",),

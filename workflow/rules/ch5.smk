@@ -1,2 +1,96 @@
-# Chapter 5: rules are added here as its experiments land (see CONTRIBUTING.md §3).
-# Until then its target is empty and the report shows "not run".
+# Chapter 5: terrain classification from simulated Puppy II recordings (thesis.terrain).
+#
+# ch5_puppy_recordings simulates the trials of Tab. 5.1 once per profile into
+# data/synthetic/puppy/<profile>.h5; the four tables read them side by side (one BLAS
+# thread each); fig5_3 also reads table5_3's tuned reservoir hyper-parameters.
+
+CH5_DATA_CODE = code_version(
+    *CORE_CODE, "physics", "terrain/data.py", "terrain/recordings.py", "terrain/gaits.py",
+    "terrain/sensors.py"
+)
+
+
+rule ch5_puppy_recordings:
+    message:
+        "Simulating the Puppy II trials of Tab. 5.1 on five terrains, profile {PROFILE}"
+    output:
+        data=data_path("puppy", f"{PROFILE}.h5"),
+    params:
+        cfg=cfg_slice("ch5/puppy_recordings"),
+        code=CH5_DATA_CODE,
+    log:
+        log_path("ch5", "puppy_recordings"),
+    benchmark:
+        bench_path("ch5", "puppy_recordings")
+    threads: 2
+    resources:
+        **res("ch5", "puppy_recordings", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run ch5/puppy_recordings --profile {PROFILE} --output {output.data} "
+        "> {log} 2>&1"
+
+
+for _name, _what in [
+    ("table5_3", "LR and RC on the 8 sensor groups (Tab. 5.3)"),
+    ("table5_4", "LR, ELM and RC over hidden-node counts (Tab. 5.4)"),
+    ("table5_5", "SFA2 and RC-SFA on the 8 sensor groups (Tab. 5.5)"),
+    ("table5_6", "ELM-SFA and RC-SFA on bound-right trials (Tab. 5.6)"),
+]:
+
+    rule:
+        name:
+            f"ch5_{_name}"
+        message:
+            f"Puppy II terrain classification: {_what}, profile {PROFILE}"
+        input:
+            recordings=rules.ch5_puppy_recordings.output.data,
+        output:
+            nc=result("ch5", _name),
+        params:
+            cfg=cfg_slice("ch5"),
+            code=code_of("ch5"),
+            key=f"ch5/{_name}",
+        log:
+            log_path("ch5", _name),
+        benchmark:
+            bench_path("ch5", _name)
+        threads: 1
+        resources:
+            **res("ch5", _name, mem_mb=4000, runtime=60),
+        shell:
+            "{THESIS} run {params.key} --profile {PROFILE} "
+            "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_fig5_3:
+    message:
+        "Puppy II: RC generalisation over gait frequencies and gaits (Fig. 5.3), profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+        table5_3=rules.ch5_table5_3.output.nc,
+    output:
+        nc=result("ch5", "fig5_3"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+    log:
+        log_path("ch5", "fig5_3"),
+    benchmark:
+        bench_path("ch5", "fig5_3")
+    threads: 1
+    resources:
+        **res("ch5", "fig5_3", mem_mb=4000, runtime=30),
+    shell:
+        "{THESIS} run ch5/fig5_3 --profile {PROFILE} --input recordings={input.recordings} "
+        "--input table5_3={input.table5_3} --output {output.nc} > {log} 2>&1"
+
+
+CHAPTER_TARGETS["ch5"] = [
+    rules.ch5_table5_3.output.nc,
+    rules.ch5_table5_4.output.nc,
+    rules.ch5_table5_5.output.nc,
+    rules.ch5_table5_6.output.nc,
+    rules.ch5_fig5_3.output.nc,
+]
+FIGURES["ch5"] = ["fig5_3"]
+TABLES["ch5"] = ["table5_3", "table5_4", "table5_5", "table5_6"]

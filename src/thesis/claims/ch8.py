@@ -8,7 +8,7 @@ experiments exist.
 
 from __future__ import annotations
 
-from thesis.claims import ch2, ch3, ch6, ch7
+from thesis.claims import ch2, ch3, ch5, ch6, ch7
 from thesis.claims.types import Claim
 
 CLAIMS: tuple[Claim, ...] = (
@@ -66,9 +66,11 @@ CLAIMS: tuple[Claim, ...] = (
         id="ch8.ch5_memory_important", chapter=8, section="§8.1",
         quote="More interestingly, from the comparison of extreme learning machines to "
               "reservoirs, it seems clear that memory is an important element.",
-        summary="Reservoirs (with memory) beat leaky ELMs (without) when few sensors are used.",
+        summary="Reservoirs (with memory) beat leaky ELMs (without) when few sensors are used: "
+                "on touch, RC test accuracy with 100 nodes exceeds the ELM's (Tab. 5.4, "
+                "rule 4; the same check as ch5.reservoir_better_with_few_sensors).",
         paper_keys=("table5_4/selection=touch/rc_minus_elm_accuracy",),
-        requires=("ch5/table5_4",),
+        requires=(ch5.T54,), reads=(f"{ch5.T54}:accuracy",), fn=ch5.rc_beats_elm_on_touch,
     ),
     Claim(
         id="ch8.ch6_stable_trot_in_few_periods_without_memory", chapter=8, section="§8.1",

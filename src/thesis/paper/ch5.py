@@ -138,6 +138,37 @@ _PROSE = (
                  "out of 64 available in the dataset."),
 )
 
+_S531_DATA = ("The trials have a varying length, many between 3000 and 6500 samples with a "
+              "sampling rate of 50Hz.")
+_S531_SEL = ("Then we select a total of 3000 samples for each terrain type and do this five "
+             "times.")
+_S531_PARTS = ("We split all trials into parts as a final step, with lengths varying from 281 "
+               "to 562 samples.")
+_SETUP = (
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="sample_rate", value=50.0, unit="Hz",
+          pos=2, row="sampling rate", source=_S531_DATA),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="trial_samples_min", value=3000.0,
+          unit="1", pos=0, row="trial length, lower end", source=_S531_DATA,
+          note="'many between': not every trial"),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="trial_samples_max", value=6500.0,
+          unit="1", pos=1, row="trial length, upper end", source=_S531_DATA),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="samples_per_selection", value=3000.0,
+          unit="1", pos=0, row="samples per terrain in a selection", source=_S531_SEL),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="part_samples_min", value=281.0,
+          unit="1", pos=0, row="part length, shortest", source=_S531_PARTS),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="part_samples_max", value=562.0,
+          unit="1", pos=1, row="part length, longest", source=_S531_PARTS),
+    entry(table="§5.3.1", artifact="sec5.3.1", variable="part_samples_typical", value=375.0,
+          unit="1", pos=0, row="part length, most", source="about 375 samples long (7.5s).",
+          note="the sentence 'Most of these are about 375 samples long' is split by Tab. 5.2 "
+               "in the text"),
+) + tuple(
+    entry(table="Tab. 5.2", artifact="table5_2", variable="dimensions",
+          coords=(("selection", g),), value=float(d), unit="1", pos=i,
+          row="Number of dimensions", column=g,
+          source="Number of dimensions\t55\t21\t18\t12\t10\t9\t8\t4")
+    for i, (g, d) in enumerate(zip(_SELECTIONS, (55, 21, 18, 12, 10, 9, 8, 4))))
+
 ENTRIES: tuple[PaperValue, ...] = (
     *_two_method_table("Tab. 5.3", "table5_3", _T53, ("lr", "rc"), {"lr": "LR", "rc": "RC"}),
     _TAB54,
@@ -145,4 +176,5 @@ ENTRIES: tuple[PaperValue, ...] = (
                        {"sfa2": "SFA2", "rc_sfa": "RC-SFA"}),
     *_table5_6(),
     *_PROSE,
+    *_SETUP,
 )

@@ -1,0 +1,181 @@
+"""Report of chapter 5: Tab. 5.3-5.6 beside the thesis's, Fig. 5.3's confusion matrices and
+the invented model and terrain parameters, from ``results/<profile>/ch5/*.nc``.
+
+Thesis numbers come from :mod:`thesis.paper`; reproduced numbers are read from the
+datasets (mean ± standard deviation over seeds of the test/train accuracy, percent of time
+steps); a missing dataset shows "not run". Tab. 5.4 is an image in the thesis, so its
+prose statements stand beside the reproduced table.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from thesis import paper
+from thesis.report.format import fmt, mean_spread
+from thesis.report.model import NOT_RUN, Figure, Table
+
+SEL = ("useful", "reduced", "minimal", "leg", "agt", "imu", "joints", "touch")
+TERRAINS = ("F", "S", "L", "C", "R")
+
+
+def _paper(artifact, variable, **coords) -> str:
+    hits = paper.select(artifact, variable, **coords)
+    return fmt(hits[0].value) if hits and hits[0].value is not None else "—"
+
+
+def _ms(da) -> str:
+    return mean_spread(np.asarray(da.values, float).ravel())
+
+
+def _sel(da, **coords):
+    return da.sel(coords)
+
+
+def _note(ds) -> str:
+    if ds is None:
+        return ""
+    keys = ("tuned_per_seed", "cma_generations", "samples_per_selection", "nodes", "n_trials")
+    out = ", ".join(f"{k}={ds.attrs[k]}" for k in keys if k in ds.attrs)
+    stopped = json.loads(str(ds.attrs.get("stopped_trials", "[]")))
+    return f"{out}, {len(stopped)} trial(s) stopped when the robot turned over."
+
+
+def _two_method(results, key, table, ref, title, methods, labels) -> Table:
+    ds = results.get(f"ch5/{key}")
+    rows = []
+    for s in SEL:
+        row = [s]
+        for split in ("train", "test"):
+            for m in methods:
+                row.append(_paper(key, "accuracy", selection=s, split=split, method=m))
+                row.append(NOT_RUN if ds is None else _ms(
+                    _sel(ds["accuracy"], selection=s, method=m, split=split)))
+        rows.append(row)
+    cols = ["group"] + [f"{split} {labels[m]} {who}" for split in ("TRAIN", "TEST")
+                        for m in methods for who in ("thesis", "ours")]
+    return Table(id=key, title=title, thesis_ref=ref, columns=cols, rows=rows,
+                 note="Accuracy [% of time steps], mean ± sd over seeds. " + _note(ds))
+
+
+def table5_4(results) -> Table:
+    ds = results.get("ch5/table5_4")
+    rows = []
+    if ds is not None:
+        for s in ds["selection"].values:
+            lr = _ms(_sel(ds["lr_accuracy"], selection=s, split="test"))
+            for n in ds["nodes"].values:
+                rows.append([str(s), str(int(n)), lr] + [
+                    _ms(_sel(ds["accuracy"], selection=s, method=m, nodes=n, split=split))
+                    for m in ("elm", "rc") for split in ("train", "test")])
+    else:
+        rows = [[s, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN]
+                for s in ("touch", "minimal")]
+    prose = ("Thesis (the table is an image; §5.4.1.2): LR has 'over 10% more "
+             "misclassifications' than any technique with 100 hidden nodes; on touch 'RC "
+             "outperforms ELM roughly 10%'; on minimal 'RC and ELM achieve virtually the same "
+             "performance'. ")
+    return Table(id="table5_4", title="RC vs leaky ELM vs LR by hidden nodes",
+                 thesis_ref="Tab. 5.4",
+                 columns=["group", "nodes", "LR test", "ELM train", "ELM test", "RC train",
+                          "RC test"], rows=rows, note=prose + _note(ds))
+
+
+def table5_6(results) -> Table:
+    ds = results.get("ch5/table5_6")
+    rows = []
+    for split in ("train", "test"):
+        rows.append([split, "SFA2", _paper("table5_6", "accuracy", selection="minimal",
+                                           split=split, method="sfa2"),
+                     NOT_RUN if ds is None else _ms(_sel(ds["sfa2_accuracy"], split=split))])
+        for m, lab in (("elm_sfa", "ELM-SFA"), ("rc_sfa", "RC-SFA")):
+            nodes = [50, 100, 200] if ds is None else [int(n) for n in ds["nodes"].values]
+            for n in nodes:
+                ours = NOT_RUN if ds is None else _ms(_sel(ds["accuracy"], method=m, nodes=n,
+                                                           split=split))
+                rows.append([split, f"{lab} {n}N", _paper(
+                    "table5_6", "accuracy", selection="minimal", split=split, method=m,
+                    nodes=n), ours])
+    return Table(id="table5_6", title="Unsupervised, minimal group, bound right only",
+                 thesis_ref="Tab. 5.6", columns=["split", "method", "thesis", "ours"],
+                 rows=rows, note="Accuracy [% of time steps]. " + _note(ds))
+
+
+def setup_table(results) -> Table:
+    """The invented model and terrain parameters the results rest on (FACTS §6)."""
+    ds = next((results[k] for k in ("ch5/table5_3", "ch5/table5_5", "ch5/table5_4",
+                                     "ch5/table5_6") if k in results), None)
+    rows = []
+    if ds is not None:
+        cfg = json.loads(str(ds.attrs.get("recordings_config", "{}")))
+        for t, mat in cfg.get("terrains", {}).items():
+            rows.append([f"terrain {t}", ", ".join(f"{k} {v}" for k, v in mat.items())])
+        for key in ("jitter", "noise", "gaits", "model"):
+            if key in cfg:
+                rows.append([key, json.dumps(cfg[key])])
+    return Table(id="setup5", title="Invented simulation parameters (not from the thesis)",
+                 thesis_ref="§5.3.1", columns=["what", "value"],
+                 rows=rows or [[NOT_RUN, NOT_RUN]],
+                 note="No public source gives Puppy II's dimensions, its terrains' materials "
+                      "or the dataset (FACTS §6): the robot (thesis.physics.models.puppy) and "
+                      "every value here are choices, fixed before any classifier ran.")
+
+
+def tables(results) -> list[Table]:
+    """Tab. 5.3-5.6 and the invented parameters."""
+    return [
+        _two_method(results, "table5_3", "table5_3", "Tab. 5.3", "Supervised: LR and RC per "
+                    "sensor group", ("lr", "rc"), {"lr": "LR", "rc": "RC"}),
+        table5_4(results),
+        _two_method(results, "table5_5", "table5_5", "Tab. 5.5", "Unsupervised: SFA2 and "
+                    "RC-SFA per sensor group", ("sfa2", "rc_sfa"),
+                    {"sfa2": "SFA2", "rc_sfa": "RC-SFA"}),
+        table5_6(results),
+        setup_table(results),
+    ]
+
+
+def _fig5_3(ds, path):
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4))
+    for ax, test, title in zip(axes, ("frequency", "gait"),
+                               ("other frequencies (bound right)", "other gaits (1 Hz)")):
+        c = _sel(ds["confusion"], test=test).sum("seed").values.astype(float)
+        rows = c.sum(1, keepdims=True)
+        frac = np.divide(c, rows, out=np.full_like(c, np.nan), where=rows > 0)
+        ax.imshow(np.nan_to_num(frac), vmin=0, vmax=1, cmap="Greens")
+        for i in range(c.shape[0]):
+            for j in range(c.shape[1]):
+                if rows[i, 0] > 0:
+                    ax.text(j, i, f"{frac[i, j]:.2f}", ha="center", va="center", fontsize=7)
+        ax.set_xticks(range(5), TERRAINS)
+        ax.set_yticks(range(5), TERRAINS)
+        ax.set_xlabel("predicted")
+        ax.set_ylabel("true")
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def figures(results, outdir: Path) -> list[Figure]:
+    """Fig. 5.3 (confusion matrices, time steps summed over seeds)."""
+    ds = results.get("ch5/fig5_3")
+    if ds is None:
+        return []
+    p = Path(outdir) / "fig5_3.png"
+    _fig5_3(ds, p)
+    rec = ds["recall"].mean("seed")
+    note = "Mean recall per terrain [%]: " + "; ".join(
+        f"{t}: " + ", ".join(f"{tr} {fmt(float(rec.sel(test=t, true=tr)))}"
+                             for tr in ds["true"].values
+                             if np.isfinite(float(rec.sel(test=t, true=tr))))
+        for t in ds["test"].values)
+    note += (". Thesis: frequency test high for S, 'complete misclassification' for F (2 "
+             "training trials); gait test poor for F and S, 'fairly decent' for L.")
+    return [Figure(id="fig5_3", title="RC generalisation: confusion matrices",
+                   thesis_ref="Fig. 5.3", path=p, note=note)]

@@ -1,0 +1,359 @@
+"""Registered experiments of chapter 5 (thesis.registry): recordings, Tab. 5.3-5.6, Fig. 5.3.
+
+``ch5/puppy_recordings`` (:mod:`thesis.terrain.data`) simulates the trials once per
+profile into ``data/synthetic/puppy/<profile>.h5``; every experiment here reads that file
+(``--input recordings=...``) and the selection, tuning and verification protocol of
+:mod:`thesis.terrain.protocol` and :mod:`thesis.terrain.tuning`:
+
+* ``table5_3``: LR and RC on the 8 sensor groups (train and test accuracy), each tuned
+  per seed and group; also the tuned hyper-parameters (read by ``fig5_3``);
+* ``table5_4``: LR, leaky ELM and RC over hidden-node counts on touch and minimal;
+* ``table5_5``: SFA2 and RC-SFA on the 8 groups;
+* ``table5_6``: SFA2, ELM-SFA and RC-SFA over node counts, minimal, bound-right trials;
+* ``fig5_3``: RC trained on bound right at 1 Hz, confusion matrices on the other
+  frequencies (bound right) and on the other gaits (1 Hz).
+
+The classifiers are small dense linear algebra (matrices of at most a few hundred
+columns): every experiment runs with one BLAS thread (``threadpoolctl``), which was ~10x
+faster than OpenBLAS's threads on a shared two-core machine, and leaves Snakemake to run
+the tables side by side.
+
+Seeds: seed s draws its selections from stream ``"ch5/<artifact>/selection"``, its hidden
+layers from ``"ch5/<artifact>/weights/<nodes>"``, its CMA-ES and FastICA seeds from
+``"ch5/<artifact>/cma/..."`` (thesis.seeding), so artifacts never share random numbers.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+
+from thesis import seeding
+from thesis.runctx import RunContext
+from thesis.terrain import gaits as G
+from thesis.terrain import methods as M
+from thesis.terrain import protocol as P
+from thesis.terrain import recordings as REC
+from thesis.terrain import sensors as S
+from thesis.terrain import tuning as T
+
+SELECTIONS = tuple(S.GROUPS)
+SPLITS = ("train", "test")
+
+
+# --------------------------------------------------------------------------- shared
+def _load(ctx: RunContext) -> REC.Recordings:
+    return REC.load(ctx.input("recordings"))
+
+
+def _normalised(recs: REC.Recordings, trials: np.ndarray) -> np.ndarray:
+    """Signals z-scored over the samples of ``trials`` (§5.3.1, before selection)."""
+    idx = np.concatenate([np.arange(recs.offset[t], recs.offset[t] + recs.length[t])
+                          for t in trials])
+    _, mean, std = P.normalise(recs.signals[idx])
+    return (recs.signals.astype(np.float64) - mean) / std
+
+
+class _Study:
+    """One seed's selections of an experiment's trials and the parts of every fold."""
+
+    def __init__(self, ctx: RunContext, recs, signals, trials, seed: int):
+        cfg = ctx.config
+        pc = cfg["protocol"]
+        self.recs, self.signals, self.cfg, self.seed, self.ctx = recs, signals, cfg, seed, ctx
+        rng = seeding.rng(ctx.root_seed, f"{ctx.key}/selection", seed)
+        self.selections, self.remaining = P.make_selections(
+            recs.length, recs.terrain, trials, rng, int(pc["selections"]), int(pc["samples"]),
+            REC.TERRAINS)
+        self.tuning = P.tuning_folds(self.selections)
+        self.verification = P.verification_folds(self.selections, self.remaining, recs.length)
+        self._cache: dict = {}
+
+    def parts(self, group: str, which: str) -> list[tuple[P.Parts, P.Parts]]:
+        """(train, test) parts of the ``which`` folds (``"tuning"``/``"verification"``)."""
+        key = (group, which)
+        if key not in self._cache:
+            cols = S.columns(group)
+            tgt = int(self.cfg["protocol"]["part_target"])
+            self._cache[key] = [
+                tuple(P.to_parts(self.signals, self.recs.offset, self.recs.terrain, segs, cols,
+                                 tgt) for segs in (split.train, split.test))
+                for split in getattr(self, which)]
+        return self._cache[key]
+
+
+def _kwargs(cfg: dict, root_seed: int, key: str, seed: int) -> dict:
+    m = cfg["methods"]
+    return dict(n_slow=int(m["n_slow"]), n_bins=int(m["histogram_bins"]),
+                ica_max_iter=int(m["ica_max_iter"]),
+                ica_seed=seeding.int_seed(root_seed, f"{key}/ica", seed))
+
+
+def _draw(ctx: RunContext, nodes: int, seed: int) -> M.Draw:
+    rng = seeding.rng(ctx.root_seed, f"{ctx.key}/weights/{nodes}", seed)
+    return M.draw(rng, nodes, len(S.NAMES))
+
+
+def _tune(ctx: RunContext, study: _Study, group: str, method: str, draw: M.Draw,
+          tag: str) -> dict:
+    """CMA-ES on the threefold tuning folds of ``study`` (§5.2.5)."""
+    cfg = ctx.config
+    folds = study.parts(group, "tuning")
+    kw = _kwargs(cfg, ctx.root_seed, ctx.key, study.seed)
+
+    def objective(params: dict) -> float:
+        accs = []
+        for train, val in folds:
+            _, (pred,) = M.evaluate(method, params, draw, train, [val], len(REC.TERRAINS), **kw)
+            accs.append(P.accuracy(pred, val.labels()))
+        return float(np.mean(accs))
+
+    ranges = {k: tuple(v) for k, v in cfg["search"].items() if k != "sigma0"}
+    res = T.tune(objective, M.PARAMS[method], ranges,
+                 seed=seeding.int_seed(ctx.root_seed, f"{ctx.key}/cma/{tag}", study.seed),
+                 generations=int(cfg["tuning"]["generations"]),
+                 sigma0=float(cfg["search"]["sigma0"]))
+    ctx.log.info("%s seed %d %s %s: CV accuracy %.1f %% after %d evaluations (%s)", ctx.key,
+                 study.seed, group, tag, res["best_score"], res["evaluations"],
+                 ", ".join(f"{k}={v:.3g}" for k, v in res["best"].items()))
+    return res
+
+
+def _verify(ctx: RunContext, study: _Study, group: str, method: str, params: dict,
+            draw: M.Draw) -> np.ndarray:
+    """(2 folds, 2 splits) train/test accuracy of the twofold verification [percent]."""
+    kw = _kwargs(ctx.config, ctx.root_seed, ctx.key, study.seed)
+    out = np.zeros((2, 2))
+    for i, (train, test) in enumerate(study.parts(group, "verification")):
+        ptr, (pte,) = M.evaluate(method, params, draw, train, [test], len(REC.TERRAINS), **kw)
+        out[i] = P.accuracy(ptr, train.labels()), P.accuracy(pte, test.labels())
+    return out
+
+
+def _single_thread(fn):
+    """Run ``fn`` with one BLAS/OpenMP thread (see module docstring)."""
+    import functools
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(1):
+            return fn(*args, **kwargs)
+
+    return wrapper
+
+
+@_single_thread
+def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]) -> dict:
+    """Tune and verify every (group, method, nodes) cell for every seed.
+
+    With ``ch5.tuning.per_seed`` false the hyper-parameters of a cell are tuned once, on
+    the first seed's tuning folds, and verified on every seed (a declared deviation).
+    Returns arrays keyed by name with a leading seed axis and a cell axis.
+    """
+    recs = _load(ctx)
+    signals = _normalised(recs, trials)
+    seeds = list(ctx.config["seeds"])
+    per_seed = bool(ctx.config["tuning"]["per_seed"])
+    n = len(cells)
+    acc = np.full((len(seeds), n, 2, 2), np.nan)  # seed, cell, fold, split
+    cv = np.full((len(seeds), n), np.nan)
+    params = {p: np.full((len(seeds), n), np.nan) for p in
+              ("pca_rate", "leak", "input_scaling", "spectral_radius")}
+    evals = np.zeros((len(seeds), n))
+    tuned: dict = {}
+    for si, seed in enumerate(seeds):
+        study = _Study(ctx, recs, signals, trials, seed)
+        for ci, (group, method, nodes) in enumerate(cells):
+            draw = _draw(ctx, nodes, seed) if method not in ("lr", "sfa2") else None
+            tag = f"{group}/{method}/{nodes}"
+            if per_seed or tag not in tuned:
+                tune_study = study if per_seed or si == 0 else None
+                if tune_study is None:
+                    raise RuntimeError("tuning study missing")
+                tuned[tag] = _tune(ctx, tune_study, group, method, draw, tag)
+                evals[si, ci] = tuned[tag]["evaluations"]
+            res = tuned[tag]
+            cv[si, ci] = res["best_score"]
+            for k, v in res["best"].items():
+                params[k][si, ci] = v
+            acc[si, ci] = _verify(ctx, study, group, method, res["best"], draw)
+            ctx.log.info("%s seed %d %s: train %.1f %%, test %.1f %%", ctx.key, seed, tag,
+                         acc[si, ci, :, 0].mean(), acc[si, ci, :, 1].mean())
+    return dict(acc=acc, cv=cv, params=params, evals=evals, seeds=seeds, recs=recs)
+
+
+def _pct(values, long_name: str) -> tuple:
+    return values, {"units": "percent", "long_name": long_name}
+
+
+def _grid_dataset(g: dict, dims: list[str], coords: dict, shape: tuple, ref: str,
+                  ctx: RunContext) -> xr.Dataset:
+    """Dataset of a :func:`_grid` result whose cells reshape to ``shape`` over ``dims``."""
+    s = len(g["seeds"])
+    acc = g["acc"].reshape((s,) + shape + (2, 2))
+    ds = xr.Dataset(coords={"seed": g["seeds"], **coords, "fold": [0, 1],
+                            "split": list(SPLITS)})
+    d = ["seed", *dims]
+    ds["accuracy_fold"] = (d + ["fold", "split"], acc, {
+        "units": "percent", "long_name": "time steps classified correctly, per verification "
+                                        "fold (train: the fold's training selection; test: "
+                                        "the other selection and the remaining trials)"})
+    ds["accuracy"] = (d + ["split"], acc.mean(axis=-2), {
+        "units": "percent", "long_name": "time steps classified correctly, mean of the two "
+                                        "verification folds (§5.3.2)"})
+    ds["cv_accuracy"] = (d, g["cv"].reshape((s,) + shape), {
+        "units": "percent", "long_name": "threefold cross-validation accuracy of the tuned "
+                                        "hyper-parameters (CMA-ES objective)"})
+    for k, v in g["params"].items():
+        unit = "1"
+        ds[k] = (d, v.reshape((s,) + shape), {"units": unit, "long_name": f"tuned {k} "
+                                              "(NaN: not a parameter of the method)"})
+    ds["cma_evaluations"] = (d, g["evals"].reshape((s,) + shape), {
+        "units": "1", "long_name": "CMA-ES evaluations spent on this seed (0: reused the "
+                                   "first seed's tuning)"})
+    recs = g["recs"]
+    ds.attrs.update(thesis_ref=ref, seeds=list(g["seeds"]),
+                    tuned_per_seed=int(bool(ctx.config["tuning"]["per_seed"])),
+                    cma_generations=int(ctx.config["tuning"]["generations"]),
+                    samples_per_selection=int(ctx.config["protocol"]["samples"]),
+                    n_trials=int(recs.n_trials), recordings=str(recs.path),
+                    recordings_config=recs.config_json,
+                    stopped_trials=json.dumps(list(recs.stopped_trials)))
+    return ds
+
+
+# --------------------------------------------------------------------------- tables
+def table5_3(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.3: LR and RC on the 8 sensor groups, train and test accuracy."""
+    nodes = int(ctx.config["methods"]["nodes"])
+    cells = [(g, m, nodes) for g in SELECTIONS for m in ("lr", "rc")]
+    trials = _load(ctx).trials()
+    g = _grid(ctx, trials, cells)
+    ds = _grid_dataset(g, ["selection", "method"], {"selection": list(SELECTIONS),
+                                                    "method": ["lr", "rc"]},
+                       (len(SELECTIONS), 2), "Tab. 5.3", ctx)
+    ds["dimensions"] = ("selection", [S.GROUP_DIMS[s] for s in SELECTIONS],
+                        {"units": "1", "long_name": "signals in the sensor group (Tab. 5.2)"})
+    ds.attrs["nodes"] = nodes
+    return ds
+
+
+def table5_4(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.4: LR, leaky ELM and RC over hidden-node counts on touch and minimal."""
+    c = ctx.config["table5_4"]
+    groups, nodes = list(c["selections"]), [int(n) for n in c["nodes"]]
+    cells = [(g, m, n) for g in groups for m in ("elm", "rc") for n in nodes]
+    cells += [(g, "lr", 0) for g in groups]
+    trials = _load(ctx).trials()
+    g = _grid(ctx, trials, cells)
+    s = len(g["seeds"])
+    hid = dict(g, acc=g["acc"][:, :-len(groups)], cv=g["cv"][:, :-len(groups)],
+               params={k: v[:, :-len(groups)] for k, v in g["params"].items()},
+               evals=g["evals"][:, :-len(groups)])
+    ds = _grid_dataset(hid, ["selection", "method", "nodes"],
+                       {"selection": groups, "method": ["elm", "rc"], "nodes": nodes},
+                       (len(groups), 2, len(nodes)), "Tab. 5.4", ctx)
+    lr = g["acc"][:, -len(groups):].mean(axis=-2)  # seed, group, split
+    ds["lr_accuracy"] = (("seed", "selection", "split"), lr, {
+        "units": "percent", "long_name": "LR (no hidden layer) time steps classified "
+                                        "correctly, mean of the two verification folds"})
+    ds["lr_cv_accuracy"] = (("seed", "selection"), g["cv"][:, -len(groups):], {
+        "units": "percent", "long_name": "threefold cross-validation accuracy of LR"})
+    ds.attrs["n_seeds"] = s
+    return ds
+
+
+def table5_5(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.5: SFA2 and RC-SFA on the 8 sensor groups (unsupervised, Bayes readout)."""
+    nodes = int(ctx.config["methods"]["nodes"])
+    cells = [(g, m, nodes) for g in SELECTIONS for m in ("sfa2", "rc_sfa")]
+    g = _grid(ctx, _load(ctx).trials(), cells)
+    ds = _grid_dataset(g, ["selection", "method"], {"selection": list(SELECTIONS),
+                                                    "method": ["sfa2", "rc_sfa"]},
+                       (len(SELECTIONS), 2), "Tab. 5.5", ctx)
+    ds["dimensions"] = ("selection", [S.GROUP_DIMS[s] for s in SELECTIONS],
+                        {"units": "1", "long_name": "signals in the sensor group (Tab. 5.2)"})
+    ds.attrs["nodes"] = nodes
+    return ds
+
+
+def table5_6(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.6: ELM-SFA and RC-SFA over node counts and SFA2, minimal, bound right only."""
+    nodes = [int(n) for n in ctx.config["table5_6"]["nodes"]]
+    cells = [("minimal", m, n) for m in ("elm_sfa", "rc_sfa") for n in nodes]
+    cells += [("minimal", "sfa2", 0)]
+    recs = _load(ctx)
+    g = _grid(ctx, recs.trials(["bound_right"]), cells)
+    hid = dict(g, acc=g["acc"][:, :-1], cv=g["cv"][:, :-1],
+               params={k: v[:, :-1] for k, v in g["params"].items()}, evals=g["evals"][:, :-1])
+    ds = _grid_dataset(hid, ["method", "nodes"], {"method": ["elm_sfa", "rc_sfa"],
+                                                  "nodes": nodes},
+                       (2, len(nodes)), "Tab. 5.6", ctx)
+    ds["sfa2_accuracy"] = (("seed", "split"), g["acc"][:, -1].mean(axis=-2), {
+        "units": "percent", "long_name": "SFA2 time steps classified correctly, mean of the "
+                                        "two verification folds"})
+    ds.attrs.update(selection="minimal", gaits="bound_right")
+    return ds
+
+
+# --------------------------------------------------------------------------- Fig. 5.3
+@_single_thread
+def fig5_3(ctx: RunContext) -> xr.Dataset:
+    """Fig. 5.3: RC trained on bound right at 1 Hz; confusion on other frequencies (bound
+    right) and on other gaits (1 Hz). Hyper-parameters: Tab. 5.3's RC optimum of the
+    group (``--input table5_3=...``), per seed."""
+    cfg = ctx.config["fig5_3"]
+    group = cfg["selection"]
+    recs = _load(ctx)
+    t53 = xr.load_dataset(ctx.input("table5_3"), engine="h5netcdf")
+    signals = _normalised(recs, recs.trials())
+    br = G.GAITS.index("bound_right")
+    one_hz = np.isclose(recs.frequency, 1.0)
+    seeds = list(ctx.config["seeds"])
+    nt = len(REC.TERRAINS)
+    conf = np.zeros((len(seeds), 2, nt, nt), np.int64)
+    n_train = np.zeros((len(seeds), nt), int)
+    cols = S.columns(group)
+    tgt = int(ctx.config["protocol"]["part_target"])
+    nodes = int(ctx.config["methods"]["nodes"])
+    kw = _kwargs(ctx.config, ctx.root_seed, ctx.key, 0)
+    tests = {"frequency": np.flatnonzero((recs.gait == br) & ~one_hz),
+             "gait": np.flatnonzero((recs.gait != br) & one_hz)}
+    for si, seed in enumerate(seeds):
+        rng = seeding.rng(ctx.root_seed, f"{ctx.key}/train", seed)
+        train = []
+        for r in range(nt):
+            pool = np.flatnonzero((recs.gait == br) & one_hz & (recs.terrain == r))
+            pick = rng.permutation(pool)[:int(cfg["max_train_trials"])]
+            n_train[si, r] = len(pick)
+            train += list(pick)
+        seg = lambda ids: [P.Segment(int(t), 0, int(recs.length[t])) for t in ids]  # noqa
+        tr = P.to_parts(signals, recs.offset, recs.terrain, seg(train), cols, tgt)
+        params = {k: float(t53[k].sel({"seed": seed, "selection": group, "method": "rc"}))
+                  for k in M.PARAMS["rc"]}
+        draw = M.draw(seeding.rng(ctx.root_seed, f"{ctx.key}/weights/{nodes}", seed), nodes,
+                      len(S.NAMES))
+        fitted = M.fit("rc", params, draw, tr, nt, **dict(kw, ica_seed=0))
+        for ti, (name, ids) in enumerate(tests.items()):
+            te = P.to_parts(signals, recs.offset, recs.terrain, seg(ids), cols, tgt)
+            conf[si, ti] = P.confusion(M.predict(fitted, te), te.labels(), nt)
+        ctx.log.info("fig5_3 seed %d: training trials per terrain %s", seed, n_train[si])
+    ds = xr.Dataset(coords={"seed": seeds, "test": list(tests), "true": list(REC.TERRAINS),
+                            "predicted": list(REC.TERRAINS)})
+    ds["confusion"] = (("seed", "test", "true", "predicted"), conf, {
+        "units": "1", "long_name": "time steps of each true terrain classified as each "
+                                   "terrain"})
+    with np.errstate(invalid="ignore"):
+        recall = 100.0 * np.einsum("stii->sti", conf) / conf.sum(-1)
+    ds["recall"] = (("seed", "test", "true"), recall, {
+        "units": "percent", "long_name": "time steps of the true terrain classified "
+                                        "correctly (NaN: terrain absent from the test)"})
+    ds["train_trials"] = (("seed", "true"), n_train, {
+        "units": "1", "long_name": "bound-right 1 Hz training trials of the terrain"})
+    ds.attrs.update(thesis_ref="Fig. 5.3", seeds=seeds, selection=group, nodes=nodes,
+                    min_train_trials=int(cfg["min_train_trials"]))
+    return ds

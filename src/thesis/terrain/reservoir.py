@@ -1,0 +1,96 @@
+"""Leaky hidden layers of chapter 5: EMA (eq. 5.2), leaky ELM (§5.2.2), leaky ESN (§5.2.3).
+
+All three are one recursion over time, run independently on every *part* of the data
+(each part starts from a zero state; thesis §5.3.1 splits the trials into parts):
+
+* EMA, the low-pass in front of linear regression: ``x(n) = (1-a) x(n-1) + a u(n)``;
+* leaky ELM: ``x(n) = (1-a) x(n-1) + a tanh(W_in u(n))``;
+* leaky ESN (RC): ``x(n) = (1-a) x(n-1) + a tanh(W_res x(n-1) + W_in u(n))``.
+
+Inputs are padded arrays ``u`` of shape (P, T, K) (P parts, T the longest part, K
+inputs) with ``lengths`` (P,); outputs (P, T, N) hold garbage after each part's length,
+which every consumer masks (:func:`thesis.terrain.protocol.valid_mask`). The linear
+recursions run as IIR filters (``scipy.signal.lfilter``); the ESN runs a loop over time
+whose batch shrinks to the parts still running (parts sorted by length), in float64.
+
+Weights (§5.2.2-5.2.3): ``W_in`` entries uniform on {-1, 0, 1} times the input scaling
+(for the ELM and the ESN alike, so the two differ only by ``W_res``); ``W_res`` standard
+normal, rescaled to spectral radius ``sigma``. No bias inside the tanh (the thesis's
+equations have none; the readout has one).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.signal import lfilter
+
+__all__ = ["input_weights", "reservoir_weights", "ema", "elm_states", "esn_states"]
+
+
+def input_weights(rng: np.random.Generator, n_nodes: int, n_inputs: int) -> np.ndarray:
+    """(n_nodes, n_inputs) unscaled input weights, i.i.d. uniform on {-1, 0, 1} (§5.2.2)."""
+    return rng.integers(-1, 2, size=(int(n_nodes), int(n_inputs))).astype(np.float64)
+
+
+def reservoir_weights(rng: np.random.Generator, n_nodes: int) -> np.ndarray:
+    """(n_nodes, n_nodes) standard-normal recurrent weights with spectral radius 1
+    (§5.2.3); multiply by sigma for spectral radius sigma."""
+    w = rng.standard_normal((int(n_nodes), int(n_nodes)))
+    rho = float(np.max(np.abs(np.linalg.eigvals(w))))
+    return w / rho
+
+
+def ema(u: np.ndarray, leak: float) -> np.ndarray:
+    """Exponential moving average along axis 1 (time) from a zero state (eq. 5.2).
+
+    Args:
+        u: (P, T, K) inputs; leak: a in (0, 1].
+    Returns:
+        (P, T, K) float64.
+    """
+    a = float(leak)
+    return lfilter([a], [1.0, a - 1.0], np.asarray(u, np.float64), axis=1)
+
+
+def elm_states(u: np.ndarray, w_in: np.ndarray, leak: float) -> np.ndarray:
+    """Leaky ELM hidden states (§5.2.2): EMA of ``tanh(W_in u)``.
+
+    Args:
+        u: (P, T, K) inputs; w_in: (N, K) scaled input weights; leak: a in (0, 1].
+    Returns:
+        (P, T, N) float64.
+    """
+    return ema(np.tanh(np.asarray(u, np.float64) @ np.asarray(w_in, np.float64).T), leak)
+
+
+def esn_states(u: np.ndarray, lengths: np.ndarray, w_in: np.ndarray, w_res: np.ndarray,
+               leak: float) -> np.ndarray:
+    """Leaky ESN states (§5.2.3), every part from a zero state.
+
+    Args:
+        u: (P, T, K) inputs; lengths: (P,) valid steps per part; w_in: (N, K) scaled input
+            weights; w_res: (N, N) recurrent weights (already scaled to radius sigma);
+            leak: a in (0, 1].
+    Returns:
+        (P, T, N) float64; steps at or after a part's length are zero.
+    """
+    u = np.asarray(u, np.float64)
+    lengths = np.asarray(lengths, int)
+    p, t_max, _ = u.shape
+    n = w_in.shape[0]
+    order = np.argsort(-lengths, kind="stable")
+    drive = u[order] @ np.asarray(w_in, np.float64).T  # (P, T, N)
+    ls = lengths[order]
+    a = float(leak)
+    w_t = np.asarray(w_res, np.float64).T
+    out = np.zeros((p, t_max, n))
+    x = np.zeros((p, n))
+    for t in range(int(ls.max()) if p else 0):
+        k = int(np.sum(ls > t))  # parts still running (sorted by length)
+        xk = x[:k]
+        xk = (1.0 - a) * xk + a * np.tanh(xk @ w_t + drive[:k, t])
+        x[:k] = xk
+        out[:k, t] = xk
+    res = np.empty_like(out)
+    res[order] = out
+    return res

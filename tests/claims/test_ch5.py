@@ -1,0 +1,195 @@
+"""Chapter-5 claims decided on synthetic table5_3-5_6 and fig5_3 datasets: each claim once
+with numbers that support it (reproduced) and once with numbers that contradict it."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import claims
+
+SEL = ["useful", "reduced", "minimal", "leg", "agt", "imu", "joints", "touch"]
+DIMS = [55, 21, 18, 12, 10, 9, 8, 4]
+TERR = ["F", "S", "L", "C", "R"]
+SEEDS = 5
+
+
+def _noise(shape, seed=0, sd=0.5):
+    return sd * np.random.default_rng(seed).standard_normal(shape)
+
+
+def table5_3(lr=None, rc=None, train_gain=15.0):
+    lr = np.array(lr if lr is not None else [72, 64, 67, 63, 66, 44, 48, 58], float)
+    rc = np.array(rc if rc is not None else [76, 79, 81, 81, 82, 72, 74, 85], float)
+    test = np.stack([lr, rc], -1)[None] + _noise((SEEDS, 8, 2), 1)
+    acc = np.stack([test + train_gain, test], -1)
+    ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "selection": SEL, "method": ["lr", "rc"],
+                            "split": ["train", "test"]})
+    ds["accuracy"] = (("seed", "selection", "method", "split"), acc, {"units": "percent"})
+    ds["dimensions"] = ("selection", DIMS, {"units": "1"})
+    return ds
+
+
+def table5_4(elm_touch=74.0, rc_touch=85.0, elm_min=80.0, rc_min=81.0, lr=(58.0, 67.0)):
+    nodes = [25, 50, 100, 200]
+    acc = np.zeros((SEEDS, 2, 2, 4, 2))
+    for gi, (e, r) in enumerate(((elm_touch, rc_touch), (elm_min, rc_min))):
+        acc[:, gi, 0, :, 1] = e
+        acc[:, gi, 1, :, 1] = r
+    acc[..., 1] += _noise(acc[..., 1].shape, 2)
+    acc[..., 0] = acc[..., 1] + 10
+    ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "selection": ["touch", "minimal"],
+                            "method": ["elm", "rc"], "nodes": nodes,
+                            "split": ["train", "test"]})
+    ds["accuracy"] = (("seed", "selection", "method", "nodes", "split"), acc,
+                      {"units": "percent"})
+    lr_acc = np.zeros((SEEDS, 2, 2))
+    lr_acc[..., 1] = np.array(lr)[None] + _noise((SEEDS, 2), 3)
+    lr_acc[..., 0] = lr_acc[..., 1] + 5
+    ds["lr_accuracy"] = (("seed", "selection", "split"), lr_acc, {"units": "percent"})
+    return ds
+
+
+def table5_5(sfa2=35.0, rc_sfa=55.0, train_gain=20.0):
+    test = np.stack([np.full(8, sfa2), np.full(8, rc_sfa)], -1)[None] + _noise((SEEDS, 8, 2), 4)
+    acc = np.stack([test + train_gain, test], -1)
+    ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "selection": SEL,
+                            "method": ["sfa2", "rc_sfa"], "split": ["train", "test"]})
+    ds["accuracy"] = (("seed", "selection", "method", "split"), acc, {"units": "percent"})
+    return ds
+
+
+def table5_6(elm_sfa=70.0, rc_sfa=70.5):
+    acc = np.zeros((SEEDS, 2, 3, 2))
+    acc[:, 0, :, 1], acc[:, 1, :, 1] = elm_sfa, rc_sfa
+    acc[..., 1] += _noise(acc[..., 1].shape, 5)
+    acc[..., 0] = acc[..., 1] + 12
+    ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "method": ["elm_sfa", "rc_sfa"],
+                            "nodes": [50, 100, 200], "split": ["train", "test"]})
+    ds["accuracy"] = (("seed", "method", "nodes", "split"), acc, {"units": "percent"})
+    ds["sfa2_accuracy"] = (("seed", "split"), np.tile([60.0, 38.0], (SEEDS, 1)),
+                           {"units": "percent"})
+    return ds
+
+
+def fig5_3(freq_recall=80.0, gait_recall=30.0):
+    recall = np.full((SEEDS, 2, 5), np.nan)
+    recall[:, 0, :2] = [5.0, freq_recall]   # F (2 training trials) fails, S generalises
+    recall[:, 1, :3] = [5.0, gait_recall, gait_recall + 5]
+    recall += _noise(recall.shape, 6)
+    ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "test": ["frequency", "gait"],
+                            "true": TERR})
+    ds["recall"] = (("seed", "test", "true"), recall, {"units": "percent"})
+    ds["train_trials"] = (("seed", "true"), np.tile([2, 5, 5, 3, 5], (SEEDS, 1)), {"units": "1"})
+    ds.attrs["min_train_trials"] = 5
+    return ds
+
+
+def check(claim_id, **results):
+    return claims.get(claim_id).check({f"ch5/{k}": v for k, v in results.items()})
+
+
+def test_thesis_like_numbers_reproduce_every_claim():
+    r = dict(table5_3=table5_3(), table5_4=table5_4(), table5_5=table5_5(),
+             table5_6=table5_6(), fig5_3=fig5_3())
+    for cid in ("ch5.limited_sensor_selection_suffices", "ch5.nonlinearity_needed",
+                "ch5.reservoir_beats_quadratic_expansion",
+                "ch5.reservoir_better_with_few_sensors",
+                "ch5.rc_and_elm_equal_with_enough_inputs",
+                "ch5.recurrence_no_difference_unsupervised", "ch5.tactile_sensors_important",
+                "ch5.generalises_to_frequencies_not_gaits", "ch5.rc_touch_best_overall",
+                "ch5.lr_improves_with_dimensionality", "ch5.train_test_gap",
+                "ch5.single_gait_unsupervised_better"):
+        v = check(cid, **r)
+        assert v.status == "reproduced", (cid, v.detail)
+    v = claims.get("ch8.ch5_memory_important").check({f"ch5/{k}": d for k, d in r.items()})
+    assert v.status == "reproduced"
+
+
+def test_limited_selection_contradicted():
+    t = table5_3(rc=[90, 79, 70, 81, 82, 72, 74, 85])
+    assert check("ch5.limited_sensor_selection_suffices", table5_3=t).status == "not_reproduced"
+
+
+def test_nonlinearity_contradicted_by_small_gap():
+    v = check("ch5.nonlinearity_needed", table5_3=table5_3(), table5_4=table5_4(lr=(75, 77)))
+    assert v.status != "reproduced"
+    v = check("ch5.nonlinearity_needed", table5_3=table5_3(rc=[60] * 8), table5_4=table5_4())
+    assert v.status == "not_reproduced"
+
+
+def test_quadratic_claim_contradicted():
+    v = check("ch5.reservoir_beats_quadratic_expansion", table5_5=table5_5(sfa2=50, rc_sfa=40))
+    assert v.status == "not_reproduced"
+
+
+def test_few_sensors_and_memory_contradicted():
+    t = table5_4(elm_touch=86, rc_touch=80)
+    assert check("ch5.reservoir_better_with_few_sensors", table5_4=t).status == "not_reproduced"
+    v = claims.get("ch8.ch5_memory_important").check({"ch5/table5_4": t})
+    assert v.status == "not_reproduced"
+
+
+def test_equivalence_claims_contradicted():
+    t = table5_4(elm_min=70, rc_min=81)
+    assert check("ch5.rc_and_elm_equal_with_enough_inputs", table5_4=t).status == "not_reproduced"
+    t6 = table5_6(elm_sfa=60, rc_sfa=72)
+    assert check("ch5.recurrence_no_difference_unsupervised",
+                 table5_6=t6).status == "not_reproduced"
+
+
+def test_tactile_and_touch_best_contradicted():
+    t = table5_3(lr=[72, 64, 67, 45, 40, 60, 62, 58], rc=[76, 79, 81, 70, 70, 80, 80, 75])
+    assert check("ch5.tactile_sensors_important", table5_3=t).status == "not_reproduced"
+    assert check("ch5.rc_touch_best_overall", table5_3=t).status == "not_reproduced"
+
+
+def test_dimensionality_contradicted():
+    t = table5_3(lr=[40, 45, 48, 50, 55, 58, 60, 70])
+    assert check("ch5.lr_improves_with_dimensionality", table5_3=t).status == "not_reproduced"
+
+
+def test_train_test_gap_contradicted():
+    v = check("ch5.train_test_gap", table5_3=table5_3(train_gain=-5), table5_5=table5_5())
+    assert v.status == "not_reproduced"
+
+
+def test_generalisation_contradicted_and_needs_training_data():
+    assert check("ch5.generalises_to_frequencies_not_gaits",
+                 fig5_3=fig5_3(freq_recall=20, gait_recall=70)).status == "not_reproduced"
+    f = fig5_3()
+    f["train_trials"][:] = 1  # no terrain has enough training trials: nothing to score
+    assert check("ch5.generalises_to_frequencies_not_gaits", fig5_3=f).status == "inconclusive"
+
+
+def test_single_gait_contradicted():
+    v = check("ch5.single_gait_unsupervised_better", table5_5=table5_5(rc_sfa=80),
+              table5_6=table5_6())
+    assert v.status == "not_reproduced"
+
+
+def test_missing_datasets_are_not_run():
+    assert check("ch5.train_test_gap", table5_3=table5_3()).status == "not_run"
+
+
+def test_too_small_a_profile_is_inconclusive_whatever_the_numbers():
+    r = dict(table5_3=table5_3(), table5_4=table5_4(), table5_5=table5_5(),
+             table5_6=table5_6(), fig5_3=fig5_3())
+    for ds in r.values():
+        ds.attrs["cma_generations"] = 1
+    r["fig5_3"].attrs["min_train_trials"] = 1
+    for cid in ("ch5.limited_sensor_selection_suffices", "ch5.nonlinearity_needed",
+                "ch5.reservoir_beats_quadratic_expansion", "ch5.train_test_gap",
+                "ch5.generalises_to_frequencies_not_gaits",
+                "ch5.single_gait_unsupervised_better"):
+        v = check(cid, **r)
+        assert v.status == "inconclusive", (cid, v.detail)
+        assert "cannot test" in v.detail
+    small = table5_4()
+    small = small.sel(nodes=[25, 50])  # no 100-node layer (the smoke profile's case)
+    for cid in ("ch5.reservoir_better_with_few_sensors",
+                "ch5.rc_and_elm_equal_with_enough_inputs"):
+        v = check(cid, table5_4=small)
+        assert v.status == "inconclusive" and "100-node" in v.detail, (cid, v.detail)
+    v = claims.get("ch8.ch5_memory_important").check({"ch5/table5_4": small})
+    assert v.status == "inconclusive"
