@@ -25,6 +25,10 @@ EXPERIMENTS: dict[str, str] = {
     "ch3/robustness": "thesis.gaits.experiments:robustness",
     "ch3/table3_2": "thesis.gaits.experiments:table3_2",
     "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
+    # ch4: transfer learning of gaits with PSO
+    "ch4/flat": "thesis.gaits.transfer_runs:flat",
+    "ch4/transfer_slopes": "thesis.gaits.transfer_runs:transfer_slopes",
+    "ch4/transfer_compliant": "thesis.gaits.transfer_runs:transfer_compliant",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
