@@ -319,6 +319,8 @@ def flat(ctx) -> xr.Dataset:
                  units="1", long_name="1 if the simulation went unphysical (counted fallen)")),
              best_generation=(("seed",), np.array([g for g, _ in best], float), dict(
                  units="1", long_name="generation of the best particle over all generations")),
+             best_particle=(("seed",), np.array([k for _, k in best], float), dict(
+                 units="1", long_name="index of the best particle in its generation")),
              reeval_speed=(("seed", "repeat"), re["speed"], dict(
                  units="m s-1", long_name="speed of the best particle re-evaluated from "
                                           "standstill")),
@@ -371,6 +373,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
     fields = {f: np.zeros(shape + (G, P)) for f in GenerationRecorder.FIELDS}
     best_pos = np.zeros(shape + (2, len(PARAMETERS)))
     best_gen = np.zeros(shape + (2,))
+    best_k = np.zeros(shape + (2,))
     reps = int(cfg["reeval"]["repeats"])
     re = {k: np.zeros(shape + (2, reps)) for k in ("speed", "score", "fallen")}
     for ci, name in enumerate(names):
@@ -402,7 +405,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
             for r, first in enumerate((0, min(1, G - 1))):
                 g, k = best_indices(fields["score"][i, ci, t], first)
                 best_pos[i, ci, t, r] = pos[i, ci, t, g, k]
-                best_gen[i, ci, t, r] = g
+                best_gen[i, ci, t, r], best_k[i, ci, t, r] = g, k
                 todo.append((i, t, r))
             heads.append(reeval_headings(cfg, ctx.root_seed, f"ch4/{name}/reeval/transfer={t}",
                                          s, 2))
@@ -432,6 +435,8 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
                                                "rank 2: after the first generation)")),
              best_generation=(bdims, best_gen, dict(
                  units="1", long_name="generation of the best particle")),
+             best_particle=(bdims, best_k, dict(
+                 units="1", long_name="index of the best particle in its generation")),
              reeval_speed=(bdims + ("repeat",), re["speed"], dict(
                  units="m s-1", long_name="speed of the best particle re-evaluated from "
                                           "standstill")),
