@@ -214,3 +214,13 @@ def test_vargha_delaney_and_majority():
     assert stats.decide_majority([1, 0, 0, 0]).status == "not_reproduced"
     assert stats.decide_majority([1, 0, 1, 0]).status == "inconclusive"
     assert stats.decide_majority([1, 1]).status == "inconclusive"
+
+
+def test_rule9_tiny_consistent_advantage_is_not_significantly_better():
+    a, b = _runs(0.0, rng=6)
+    a[:, 0] += 0.4  # a head start in the first generation only, lost afterwards
+    v = stats.decide_runs_over_generations(a, b, bound=0.05, claim="not_better")
+    assert v.measured["effect_ci_high"] < stats.SMALL_A_EFFECT
+    assert v.status == "reproduced", v.detail
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="no_difference").status != "not_reproduced"

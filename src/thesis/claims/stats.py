@@ -34,11 +34,14 @@ Rules (applied uniformly by the decision helpers below):
    - *"A significantly better (p < bound)"*: reproduced when E is reproduced and
      k > n/2; not_reproduced when E says B is better, or when k = 0 (no run reaches the
      thesis's significance); inconclusive otherwise.
-   - *"A not significantly better (p > bound)"*: reproduced when E is not reproduced and
-     n - k > n/2; not_reproduced when E is reproduced and k > n/2; inconclusive otherwise.
-   - *"no significant difference"* (two-sided p): reproduced when E is inconclusive and
-     n - k > n/2; not_reproduced when E is decisive (either way) and k > n/2;
-     inconclusive otherwise.
+   - *"A not significantly better (p > bound)"*: reproduced when n - k > n/2 and either E
+     is not reproduced or the interval of the effect stays below a small effect
+     (:data:`SMALL_A_EFFECT`: pooling seeds may detect an advantage too small to matter,
+     which no single run would call significant); not_reproduced when E is reproduced and
+     k > n/2; inconclusive otherwise.
+   - *"no significant difference"* (two-sided p): reproduced when n - k > n/2 and either E
+     is inconclusive or the interval of the effect lies within ±:data:`SMALL_A_EFFECT`;
+     not_reproduced when E is decisive (either way) and k > n/2; inconclusive otherwise.
    - *"A does not harm"* (:func:`decide_not_worse`): rule 6 on the ``e_s`` with the bound
      -:data:`SMALL_A_EFFECT` (non-inferiority by less than a small effect).
 10. **"It happens in most runs"** (:func:`decide_majority`): reproduced when the event
@@ -465,6 +468,9 @@ def decide_runs_over_generations(a, b, *, bound: float, claim: str, label_a: str
     majority_sig, majority_not = 2 * k > n, 2 * (n - k) > n
     where = f"{k} of {n} seeds have p < {bound:g}"
     E = eff.status
+    lo, hi = measured["effect_ci_low"], measured["effect_ci_high"]
+    below_small = bool(np.isfinite(hi) and hi < SMALL_A_EFFECT)
+    within_small = below_small and bool(np.isfinite(lo) and lo > -SMALL_A_EFFECT)
     if claim == "better":
         if E == "not_reproduced":
             return Verdict("not_reproduced", measured, statistic,
@@ -477,16 +483,19 @@ def decide_runs_over_generations(a, b, *, bound: float, claim: str, label_a: str
                            f"{label_a} outperforms {label_b} over seeds; {where}")
         return Verdict("inconclusive", measured, statistic, f"effect: {E}; {where}")
     if claim == "not_better":
-        if E != "reproduced" and majority_not:
-            return Verdict("reproduced", measured, statistic,
-                           f"no consistent advantage of {label_a} (effect: {E}); {where}")
+        if majority_not and (E != "reproduced" or below_small):
+            why = (f"no consistent advantage of {label_a} (effect: {E})" if E != "reproduced"
+                   else f"{label_a}'s advantage over seeds is below a small effect "
+                        f"(A - 0.5 < {SMALL_A_EFFECT:g})")
+            return Verdict("reproduced", measured, statistic, f"{why}; {where}")
         if E == "reproduced" and majority_sig:
             return Verdict("not_reproduced", measured, statistic,
                            f"{label_a} significantly outperforms {label_b}; {where}")
         return Verdict("inconclusive", measured, statistic, f"effect: {E}; {where}")
-    if E == "inconclusive" and majority_not:
-        return Verdict("reproduced", measured, statistic,
-                       f"no consistent difference (effect interval includes 0); {where}")
+    if majority_not and (E == "inconclusive" or within_small):
+        why = ("no consistent difference (effect interval includes 0)" if E == "inconclusive"
+               else f"any difference is below a small effect (|A - 0.5| < {SMALL_A_EFFECT:g})")
+        return Verdict("reproduced", measured, statistic, f"{why}; {where}")
     if E != "inconclusive" and majority_sig:
         return Verdict("not_reproduced", measured, statistic,
                        f"the runs differ consistently ({eff.detail}); {where}")

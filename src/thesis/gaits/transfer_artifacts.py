@@ -57,6 +57,21 @@ def _runs(ctx) -> xr.Dataset:
     return xr.concat([p[keep] for p in parts], dim="condition")
 
 
+#: Attributes stating a run's size, copied from the runs onto every derived artifact (the
+#: claims compare them with the thesis's).
+BUDGET_ATTRS = ("particles", "generations", "run_seconds", "transition_seconds")
+
+
+def budget_attrs(*sources: xr.Dataset) -> dict:
+    """The run-size attributes of the source runs (the smallest over the sources)."""
+    out = {}
+    for k in BUDGET_ATTRS:
+        vals = [float(s.attrs[k]) for s in sources if k in s.attrs]
+        if vals:
+            out[k] = min(vals)
+    return out
+
+
 def normalised(x) -> np.ndarray:
     """Parameters (..., 12) mapped to their search ranges (unit box)."""
     return pso.normalise(x, FAMILY.lower, FAMILY.upper)
@@ -141,7 +156,7 @@ def best_table(flat: xr.Dataset, runs: xr.Dataset, dim: str, levels, conds, rank
         coords={"seed": seeds, dim: list(levels), "transfer": [0, 1], "rank": list(ranks),
                 "repeat": np.arange(R), "parameter": list(PARAMETERS)})
     ds["transfer"].attrs.update(units="1", long_name="1: with transfer; 0: without")
-    ds.attrs.update(seeds=seeds)
+    ds.attrs.update(seeds=seeds, **budget_attrs(flat, runs))
     if len(ranks) == 1:
         ds = ds.squeeze("rank", drop=True)
     return ds
@@ -218,7 +233,7 @@ def generation_scores(runs: xr.Dataset, cond: str, thesis_ref: str) -> xr.Datase
         coords=dict(seed=seeds, transfer=[0, 1], generation=np.arange(G),
                     particle=np.arange(sub.sizes["particle"])))
     ds["transfer"].attrs.update(units="1", long_name="1: with transfer; 0: without")
-    ds.attrs.update(thesis_ref=thesis_ref, seeds=seeds, condition=cond)
+    ds.attrs.update(thesis_ref=thesis_ref, seeds=seeds, condition=cond, **budget_attrs(runs))
     return ds
 
 
@@ -295,7 +310,7 @@ def fig4_6(ctx) -> xr.Dataset:
         coords=dict(seed=seeds, grade=levels, top=np.arange(n), parameter=list(PARAMETERS),
                     parameter_b=list(PARAMETERS)))
     ds["grade"].attrs.update(units="percent", long_name="grade of the slope")
-    ds.attrs.update(thesis_ref="Fig. 4.6", seeds=seeds, top=n)
+    ds.attrs.update(thesis_ref="Fig. 4.6", seeds=seeds, top=n, **budget_attrs(flat, runs))
     return ds
 
 
@@ -330,7 +345,7 @@ def fig4_9(ctx) -> xr.Dataset:
     ds["x0_edge"].attrs.update(units="mm", long_name="x0")
     ds["transfer"].attrs.update(units="1", long_name="1: with transfer; 0: without")
     ds.attrs.update(thesis_ref="Fig. 4.9", seeds=[int(s) for s in sub["seed"].values],
-                    grade=grade)
+                    grade=grade, **budget_attrs(runs))
     return ds
 
 
@@ -352,7 +367,7 @@ def fig4_10(ctx) -> xr.Dataset:
         coords=dict(seed=seeds, condition=[str(c) for c in runs["condition"].values],
                     transfer=[0, 1], generation=runs["generation"].values))
     ds["transfer"].attrs.update(units="1", long_name="1: with transfer; 0: without")
-    ds.attrs.update(thesis_ref="Fig. 4.10", seeds=seeds)
+    ds.attrs.update(thesis_ref="Fig. 4.10", seeds=seeds, **budget_attrs(runs))
     return ds
 
 
