@@ -24,7 +24,11 @@ or the command for velocity servos, and impulse bounded by ``max_torque * dt``.
 Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
 restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
 friction rows in a pyramid ``|lambda_t| <= mu lambda_n`` and an optional torsional row
-``|lambda_tau| <= torsional * lambda_n``.
+``|lambda_tau| <= torsional * lambda_n``. A contact with a directional sphere
+(``Model.directional``) bounds its first friction row asymmetrically,
+``-mu_forward lambda_n <= lambda_t1 <= mu_backward lambda_n`` (``t1`` along the sphere's
+direction, ``collision.directional_basis``: a negative impulse resists sliding forward);
+the rows then carry a lower-bound coefficient ``fric_lo`` beside ``fric``.
 """
 
 from __future__ import annotations
@@ -64,19 +68,22 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
     Returns:
         dict of (n_rows, ...) arrays ``ja``, ``jb``, ``bias``, ``gamma``, ``cfm_abs``,
         ``lo``, ``hi``, ``fric`` (friction-bound coefficient, applied to the impulse of
-        row ``ref``), and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
+        row ``ref``), ``fric_lo`` (lower-bound coefficient; only in directional models),
+        and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
     """
     q, qdot, dja, djb = dofs
     dt = m.dt
     dtype = vel6.dtype
     parts = []  # (ja, jb, bias, gamma, cfm_abs, lo, hi, fric, body_a, body_b)
+    fric_lo = []  # per part: lower friction-bound coefficient, None = fric (directional)
 
-    def add(ja, jb, bias, gamma, cfm_abs, lo, hi, fric, ba, bb):
+    def add(ja, jb, bias, gamma, cfm_abs, lo, hi, fric, ba, bb, lower=None):
         n = ja.shape[0]
         if n:
             bc = lambda x: jnp.broadcast_to(jnp.asarray(x, dtype), (n,))  # noqa: E731
             parts.append((ja, jb, bc(bias), bc(gamma), bc(cfm_abs), bc(lo), bc(hi),
                           bc(fric), np.broadcast_to(ba, (n,)), np.broadcast_to(bb, (n,))))
+            fric_lo.append(None if lower is None else bc(lower))
 
     dof_b1 = m.joint_body1[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
     dof_b2 = m.joint_body2[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
@@ -143,10 +150,17 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         # a bouncing contact is a hard velocity target (softness would eat the bounce)
         add(ja_n, jb_n, jnp.minimum(pen, bounce), jnp.where(bounce < pen, 0.0, gamma), 0.0,
             0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
-        for t in (contacts["t1"], contacts["t2"]):
+        if m.directional:  # t1: -mu_forward <= lambda / lambda_n <= mu_backward
+            mu = m.material_friction[mat]
+            dirn = np.asarray(m.pair_dir_sign != 0)
+            bounds = ((jnp.where(dirn, m.material_friction_backward[mat], mu),
+                       jnp.where(dirn, m.material_friction_forward[mat], mu)), (mu, mu))
+        else:  # isotropic: the program of a model without directional spheres
+            bounds = ((None, None), (None, None))
+        for t, (hi_c, lo_c) in zip((contacts["t1"], contacts["t2"]), bounds):
             add(jnp.concatenate([-t, -jnp.cross(ra, t)], -1),
                 jnp.concatenate([t, jnp.cross(rb, t)], -1), 0.0, 0.0, 0.0, -INF, INF,
-                m.material_friction[mat], ba, bb)
+                m.material_friction[mat] if hi_c is None else hi_c, ba, bb, lower=lo_c)
         if m.torsional:
             z = jnp.zeros_like(n)
             add(jnp.concatenate([z, -n], -1), jnp.concatenate([z, n], -1), 0.0, 0.0, 0.0,
@@ -161,6 +175,9 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
     cols = list(zip(*parts))
     out = {k: jnp.concatenate(v) for k, v in zip(
         ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric"), cols[:8])}
+    if m.directional:
+        out["fric_lo"] = jnp.concatenate([p[7] if lo is None else lo
+                                          for p, lo in zip(parts, fric_lo)])
     out["body_a"] = np.concatenate(cols[8]).astype(np.int32)
     out["body_b"] = np.concatenate(cols[9]).astype(np.int32)
     nr = out["bias"].shape[0]

@@ -68,6 +68,8 @@ _MATERIAL_LEAVES = {
     "stiffness_hz": "material_hz",
     "damping_ratio": "material_zeta",
     "torsional": "material_torsional",
+    "friction_forward": "material_friction_forward",
+    "friction_backward": "material_friction_backward",
 }
 
 
@@ -77,7 +79,9 @@ def set_material(model: Model, name: str, **values) -> Model:
     Keywords (any subset; a value may be traced): ``friction`` (Coulomb coefficient),
     ``restitution`` (coefficient of restitution), ``stiffness_hz`` and ``damping_ratio``
     (contact softness, see ``constraint.py``), ``torsional`` [m] (torsional friction
-    length). Raises ``KeyError`` for an unknown material, ``TypeError`` for an unknown
+    length), ``friction_forward`` / ``friction_backward`` (directional contact spheres,
+    ``Builder.add_contact_sphere(..., direction=...)``; ``friction`` is then their lateral
+    bound, and setting ``friction`` alone leaves these two unchanged). Raises ``KeyError`` for an unknown material, ``TypeError`` for an unknown
     keyword, and ``ValueError`` for a torsional length on a model built without
     torsional rows (which rows exist is topology, fixed at build time).
     """
