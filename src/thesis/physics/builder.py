@@ -117,6 +117,7 @@ class Builder:
         self.contact_slop = float(contact_slop)
         self.toi_correction = bool(toi_correction)
         self.bodies, self.joints, self.servos, self.springs, self.jsprings = [], [], [], [], []
+        self.tethers = []
         self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
         self.geoms, self.cameras, self.textures = [], [], []
         self.add_material("default", friction, restitution,
@@ -288,6 +289,31 @@ class Builder:
         rest = float(np.linalg.norm(a2 - a1)) if rest_length is None else float(rest_length)
         self.springs.append(dict(name=name, b1=i1, b2=i2, a1=r1.T @ (a1 - p1),
                                  a2=r2.T @ (a2 - p2), k=stiffness, c=damping, rest=rest))
+        return name
+
+    def add_tether(self, name, body, anchor, rail_point, rail_direction, stiffness, damping,
+                   slack):
+        """A safety tether: a thread from world point ``anchor`` on ``body`` (at build
+        time) to a carriage that slides freely along a straight world rail through
+        ``rail_point`` along ``rail_direction``.
+
+        Models the "light thread to an overhead rail" that limited the Oncilla's lateral
+        movement on the treadmill, "loose during normal operation" (thesis §4.5). The
+        carriage is massless and frictionless, so it always sits at the foot of the
+        perpendicular from the anchor to the rail and the thread pulls perpendicular to
+        the rail. The thread is a tension-only spring-damper (``stiffness`` [N/m],
+        ``damping`` [N s/m], integrated implicitly like every spring here): no force while
+        the anchor is within ``slack`` [m] of the rail, ``k (d - slack) + c d'`` (never
+        pushing) beyond it. One unilateral row per tether (``constraint.py``); its tension
+        is the sensor ``tether_force``. Returns ``name``."""
+        i = self._body(body)
+        if i < 0:
+            raise ValueError(f"tether {name!r}: the tethered body must be a dynamic body")
+        p, r = self._pose(i)
+        u = _unit(rail_direction)
+        self.tethers.append(dict(name=name, body=i, anchor=r.T @ (np.asarray(anchor, float) - p),
+                                 rail_point=np.asarray(rail_point, np.float64), rail_dir=u,
+                                 k=float(stiffness), c=float(damping), slack=float(slack)))
         return name
 
     def add_joint_spring(self, joint, stiffness, damping, rest_angle=0.0, axis_index=0):

@@ -5,8 +5,8 @@ and its accumulated impulse lambda_i in [lo_i, hi_i] (FACTS §2.4-2.7). The rows
 two families with static shapes:
 
 * joint blocks (n_joint, 6): the equality rows of each joint, solved together;
-* scalar rows (n_rows,): ``[servos | limits | joint springs | springs | contact normals |
-  friction t1 | friction t2 | (torsion)]`` in that static order.
+* scalar rows (n_rows,): ``[servos | limits | joint springs | springs | tethers |
+  contact normals | friction t1 | friction t2 | (torsion)]`` in that static order.
 
 Softness (FACTS §2.4 item 3, derived so its units are consistent): a row with natural
 frequency f [Hz] and damping ratio zeta behaves as an implicit spring-damper of stiffness
@@ -21,6 +21,9 @@ stable for any stiffness.
 Servos (FACTS §2.7): a hard velocity row along the joint coordinate with target rate
 ``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
 or the command for velocity servos, and impulse bounded by ``max_torque * dt``.
+Tethers (``Builder.add_tether``): a spring row on the anchor's distance d from its rail
+with impulse in [-inf, 0] (pull only) while d > slack and [0, 0] while slack, so a slack
+tether applies exactly no impulse.
 Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
 restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
 friction rows in a pyramid ``|lambda_t| <= mu lambda_n`` and an optional torsional row
@@ -56,7 +59,7 @@ def _spring(k, c, dt):
     return dt * k / hk_c, 1.0 / (dt * hk_c)
 
 
-def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
+def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=None):
     """Assemble the scalar rows.
 
     Args:
@@ -65,6 +68,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         spring_geo: (d, length, ra, rb) of the body springs (n_spring, ...).
         vel6: (n_body + 1, 6) velocities after gravity (for restitution).
         action: (n_servo,) servo commands.
+        tether_geo: (unit, length, r) of ``step.tether_geometry`` (models with tethers).
     Returns:
         dict of (n_rows, ...) arrays ``ja``, ``jb``, ``bias``, ``gamma``, ``cfm_abs``,
         ``lo``, ``hi``, ``fric`` (friction-bound coefficient, applied to the impulse of
@@ -131,6 +135,15 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         jb = jnp.concatenate([dvec, jnp.cross(rb, dvec)], -1)
         add(ja, jb, erp / dt * (length - m.spring_rest), 0.0, cfm, -INF, INF, 0.0,
             m.spring_body1, m.spring_body2)
+
+    # tethers: tension-only implicit spring-damper on the anchor's distance from the rail
+    if m.tether_names:
+        unit, length, r = tether_geo
+        erp, cfm = _spring(m.tether_k, m.tether_c, dt)
+        jb = jnp.concatenate([unit, jnp.cross(r, unit)], -1)  # rate of the distance
+        taut = length > m.tether_slack
+        add(jnp.zeros_like(jb), jb, erp / dt * (length - m.tether_slack), 0.0, cfm,
+            jnp.where(taut, -INF, 0.0), 0.0, 0.0, m.n_body, m.tether_body)
 
     # contacts
     np_ = m.n_pair

@@ -135,6 +135,7 @@ class Model(_Replace):
         servo_names, servo_dof (n_servo,), servo_kind (n_servo,) ServoKind.
         limit_dof (n_limit,), jspring_dof (n_jspring,), spring_names,
         spring_body1/spring_body2 (n_spring,).
+        tether_names, tether_body (n_tether,): body of each tether (``Builder.add_tether``).
         csphere_body (n_csphere,) body of each contact sphere.
         pair_sphere (n_pair,) contact sphere, pair_other (n_pair,) plane index or second
         contact sphere, pair_is_sphere (n_pair,) bool, pair_material (n_pair,) material.
@@ -175,6 +176,9 @@ class Model(_Replace):
         jspring_k [N m/rad or N/m], jspring_c [N m s/rad or N s/m], jspring_rest (n_jspring,).
         spring_anchor1/2 (n_spring, 3) body frames [m], spring_k [N/m], spring_c [N s/m],
         spring_rest [m] (n_spring,).
+        tether_anchor (n_tether, 3) body frame [m], tether_rail_point (n_tether, 3) world
+        [m], tether_rail_dir (n_tether, 3) unit world rail direction, tether_k [N/m],
+        tether_c [N s/m], tether_slack [m] (n_tether,).
         csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m],
         csphere_direction (n_csphere, 3) unit friction direction, body frame (zero for
         isotropic spheres).
@@ -193,7 +197,7 @@ class Model(_Replace):
         "joint_names", "joint_type", "joint_body1", "joint_body2", "joint_row_mask",
         "dof_names", "dof_joint", "dof_kind", "dof_slot",
         "servo_names", "servo_dof", "servo_kind", "limit_dof", "jspring_dof",
-        "spring_names", "spring_body1", "spring_body2",
+        "spring_names", "spring_body1", "spring_body2", "tether_names", "tether_body",
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
         "pair_dir_sphere", "pair_dir_sign",
         "torsional", "toi_correction", "material_names", "plane_names",
@@ -223,6 +227,8 @@ class Model(_Replace):
     spring_names: tuple
     spring_body1: np.ndarray
     spring_body2: np.ndarray
+    tether_names: tuple
+    tether_body: np.ndarray
     csphere_body: np.ndarray
     pair_sphere: np.ndarray
     pair_other: np.ndarray
@@ -275,6 +281,12 @@ class Model(_Replace):
     spring_k: Any
     spring_c: Any
     spring_rest: Any
+    tether_anchor: Any
+    tether_rail_point: Any
+    tether_rail_dir: Any
+    tether_k: Any
+    tether_c: Any
+    tether_slack: Any
     csphere_radius: Any
     csphere_offset: Any
     csphere_direction: Any
@@ -331,7 +343,8 @@ class Model(_Replace):
     def n_rows(self) -> int:
         """Number of scalar (non-joint-block) constraint rows."""
         return (self.n_servo + int(self.limit_dof.shape[0]) + int(self.jspring_dof.shape[0])
-                + len(self.spring_names) + self.n_pair * self.rows_per_contact)
+                + len(self.spring_names) + len(self.tether_names)
+                + self.n_pair * self.rows_per_contact)
 
     def body(self, name: str) -> int:
         """Index of the body called ``name``."""
