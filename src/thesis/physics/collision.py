@@ -18,7 +18,8 @@ import numpy as np
 from thesis.physics.math import mv, safe_norm, tangent_basis
 from thesis.physics.types import GeomType, Model
 
-__all__ = ["sphere_centres", "sphere_plane", "sphere_sphere", "COLLISION_FUNCS", "detect"]
+__all__ = ["sphere_centres", "sphere_plane", "sphere_sphere", "directional_basis",
+           "COLLISION_FUNCS", "detect"]
 
 
 def sphere_centres(m: Model, pos, rot):
@@ -57,6 +58,32 @@ def sphere_sphere(m: Model, centres, pos, sphere1, sphere2):
                 rb=point - pos[m.csphere_body[sphere2]])
 
 
+def directional_basis(m: Model, rot, normal, t1, t2, dir_sphere, dir_sign):
+    """Friction directions of contacts with a directional sphere (``Builder.
+    add_contact_sphere(..., direction=...)``).
+
+    ``t1`` becomes the sphere's world direction projected onto the contact plane,
+    normalised and signed so that a positive rate along it is the directional sphere
+    sliding *forward* relative to the other surface (``-d`` when the sphere is body a);
+    ``t2 = n x t1``. Contacts without a direction (``dir_sign`` 0, static) and contacts
+    whose direction is (nearly) normal to the contact plane keep ``t1``/``t2``.
+
+    Args:
+        rot: (n_body + 1, 3, 3) extended rotations. normal, t1, t2: (P, 3).
+        dir_sphere, dir_sign: static (P,) numpy arrays (``Model.pair_dir_*``).
+    """
+    sign = np.asarray(dir_sign, np.float64)
+    d = mv(rot[m.csphere_body[dir_sphere]], m.csphere_direction[dir_sphere])
+    d = d * jnp.asarray(sign, d.dtype)[:, None]
+    tang = d - jnp.sum(d * normal, -1, keepdims=True) * normal
+    length = safe_norm(tang)
+    ok = (length > 1e-6) & jnp.asarray(sign != 0)
+    u1 = tang / jnp.where(ok, length, 1.0)[:, None]
+    u1 = jnp.where(ok[:, None], u1, t1)
+    u2 = jnp.where(ok[:, None], jnp.cross(normal, u1), t2)
+    return u1, u2
+
+
 #: Pairwise contact functions keyed by (GeomType, GeomType) of (shape a, shape b).
 COLLISION_FUNCS = {
     (GeomType.PLANE, GeomType.SPHERE): sphere_plane,
@@ -93,6 +120,9 @@ def detect(m: Model, pos, rot):
         inv = np.argsort(order)
         out = {k: v[inv] for k, v in out.items()}
     out["t1"], out["t2"] = tangent_basis(out["normal"])
+    if m.directional:  # static: isotropic models never trace this
+        out["t1"], out["t2"] = directional_basis(m, rot, out["normal"], out["t1"], out["t2"],
+                                                 m.pair_dir_sphere, m.pair_dir_sign)
     world = m.n_body
     other = np.where(is_s, m.pair_other, 0)  # plane pairs: index unused
     sb1 = m.csphere_body[m.pair_sphere]

@@ -7,7 +7,8 @@ gravity) in the body frame; the gyroscope is the angular velocity in the body fr
 ``imu_up`` is the world's vertical axis in the body frame, the tilt an IMU's attitude
 filter reports: a smooth function of the pose, unlike the accelerometer, whose
 finite difference carries every impact and makes d(reading)/d(velocity) ~ 1/dt.
-Contact forces are the normal impulses the solver applied in the last step divided by dt.
+Contact forces are the normal impulses the solver applied in the last step divided by dt;
+tether tensions likewise.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from thesis.physics import kinematics
 from thesis.physics.math import mtv
 from thesis.physics.types import Model, State
 
-__all__ = ["sensors", "contact_normal_force"]
+__all__ = ["sensors", "contact_normal_force", "tether_force"]
 
 
 def contact_normal_force(m: Model, state: State):
@@ -34,6 +35,13 @@ def contact_normal_force(m: Model, state: State):
     return jax.ops.segment_sum(jnp.concatenate([f, f]), seg, num_segments=m.n_csphere + 1)[:-1]
 
 
+def tether_force(m: Model, state: State):
+    """(n_tether,) tension of each tether in the last step [N] (>= 0; 0 while slack)."""
+    start = (m.n_servo + int(m.limit_dof.shape[0]) + int(m.jspring_dof.shape[0])
+             + len(m.spring_names))
+    return -state.row_impulse[start:start + len(m.tether_names)] / m.dt
+
+
 def sensors(model: Model, state: State) -> dict:
     """All sensors of ``state``.
 
@@ -44,7 +52,8 @@ def sensors(model: Model, state: State) -> dict:
         imu_acc (n_body, 3) specific force in the body frame [m/s^2] (reads +g upwards
         at rest); imu_gyro (n_body, 3) angular velocity in the body frame [rad/s];
         imu_up (n_body, 3) unit world z axis in the body frame (R^T e_z, [1]);
-        contact_force (n_csphere,) normal force [N].
+        contact_force (n_csphere,) normal force [N];
+        tether_force (n_tether,) tension of each tether [N].
     """
     m, s = model, state
     pos, rot, vel6 = kinematics.extend(m, s.pos, s.rot, s.vel, s.angvel)
@@ -58,4 +67,5 @@ def sensors(model: Model, state: State) -> dict:
         imu_gyro=mtv(s.rot, s.angvel),
         imu_up=s.rot[..., 2, :],
         contact_force=contact_normal_force(m, s),
+        tether_force=tether_force(m, s),
     )

@@ -1,7 +1,7 @@
 """One time step of the engine, written as the algorithm of FACTS §2.4 / thesis §7.2.
 
 1. apply gravity (external forces) to the velocities;
-2. detect contacts and build the constraint rows (joints, servos, limits, springs,
+2. detect contacts and build the constraint rows (joints, servos, limits, springs, tethers,
    contacts) at the current poses;
 3. warm-start with a fraction of last step's impulses and run the projected block-Jacobi
    solver for the new velocities;
@@ -20,7 +20,7 @@ from thesis.physics import collision, constraint, integrator, kinematics, solver
 from thesis.physics.math import decay_gradient, mv, safe_norm
 from thesis.physics.types import Model, State
 
-__all__ = ["step", "spring_geometry", "toi_correction"]
+__all__ = ["step", "spring_geometry", "tether_geometry", "toi_correction"]
 
 
 def spring_geometry(m: Model, pos, rot):
@@ -33,6 +33,25 @@ def spring_geometry(m: Model, pos, rot):
     ok = length > 1e-9
     unit = jnp.where(ok[:, None], d / jnp.where(ok, length, 1.0)[:, None], 0.0)
     return unit, length, ra, rb
+
+
+def tether_geometry(m: Model, pos, rot):
+    """Tethers' distance from their rails (``Builder.add_tether``).
+
+    Returns (unit (n_tether, 3), length (n_tether,), r (n_tether, 3)): the unit vector
+    from the carriage (the anchor's foot on the rail) to the anchor, their distance [m]
+    and the anchor's offset from its body's CoM [m]. ``unit`` is 0 where the anchor is
+    on the rail (gradient-safe).
+    """
+    b = m.tether_body
+    r = mv(rot[b], m.tether_anchor)
+    rel = pos[b] + r - m.tether_rail_point
+    u = m.tether_rail_dir
+    perp = rel - jnp.sum(rel * u, -1, keepdims=True) * u
+    length = safe_norm(perp)
+    ok = length > 1e-9
+    unit = jnp.where(ok[:, None], perp / jnp.where(ok, length, 1.0)[:, None], 0.0)
+    return unit, length, r
 
 
 def toi_correction(m: Model, contacts, vel, angvel):
@@ -100,7 +119,8 @@ def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
                       body_a=m.joint_body1, body_b=m.joint_body2)
         contacts = collision.detect(m, pos, rot)
         springs = spring_geometry(m, pos, rot)
-        rows = constraint.scalar_rows(m, dofs, contacts, springs, v0, action)
+        tethers = tether_geometry(m, pos, rot) if m.tether_names else None
+        rows = constraint.scalar_rows(m, dofs, contacts, springs, v0, action, tethers)
     with jax.named_scope("solver"):
         inv_m, inv_iw = solver.inverse_mass(m, rot)
         guess_j, guess_r = s.joint_impulse, s.row_impulse

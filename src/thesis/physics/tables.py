@@ -63,6 +63,26 @@ def build_model(b, dtype):
         pairs_is.append(True)
         pairs_m.append(m)
     torsional = any(b.materials[m]["torsional"] > 0 for m in pairs_m)
+    # directional friction: the pair's directional sphere and the side it is on (+1 body b,
+    # -1 body a, 0 none); planes are body a, so a sphere against a plane is body b
+    directed = [s["direction"] is not None for s in b.cspheres]
+    dir_sphere, dir_sign = [], []
+    for si, other, is_s in zip(pairs_s, pairs_o, pairs_is):
+        if is_s and directed[si] and directed[other]:
+            raise ValueError(f"sphere pair ({si}, {other}): both contact spheres have a "
+                             "friction direction; give it to at most one of them")
+        if is_s and directed[si]:
+            dir_sphere.append(si)
+            dir_sign.append(-1)
+        elif is_s and directed[other]:
+            dir_sphere.append(other)
+            dir_sign.append(1)
+        elif not is_s and directed[si]:
+            dir_sphere.append(si)
+            dir_sign.append(1)
+        else:
+            dir_sphere.append(0)
+            dir_sign.append(0)
 
     tex = b.textures
     if tex:
@@ -97,9 +117,12 @@ def build_model(b, dtype):
         spring_names=tuple(s["name"] for s in b.springs),
         spring_body1=ints([fix(s["b1"]) for s in b.springs]),
         spring_body2=ints([fix(s["b2"]) for s in b.springs]),
+        tether_names=tuple(t["name"] for t in b.tethers),
+        tether_body=ints([t["body"] for t in b.tethers]),
         csphere_body=ints([fix(s["body"]) for s in b.cspheres]),
         pair_sphere=ints(pairs_s), pair_other=ints(pairs_o),
         pair_is_sphere=np.asarray(pairs_is, bool).reshape(-1), pair_material=ints(pairs_m),
+        pair_dir_sphere=ints(dir_sphere), pair_dir_sign=ints(dir_sign),
         torsional=bool(torsional), toi_correction=bool(b.toi_correction),
         material_names=tuple(m["name"] for m in b.materials),
         plane_names=tuple(p["name"] for p in b.planes),
@@ -133,8 +156,16 @@ def build_model(b, dtype):
         spring_k=f("k", b.springs, (len(b.springs),)),
         spring_c=f("c", b.springs, (len(b.springs),)),
         spring_rest=f("rest", b.springs, (len(b.springs),)),
+        tether_anchor=f("anchor", b.tethers, (len(b.tethers), 3)),
+        tether_rail_point=f("rail_point", b.tethers, (len(b.tethers), 3)),
+        tether_rail_dir=f("rail_dir", b.tethers, (len(b.tethers), 3)),
+        tether_k=f("k", b.tethers, (len(b.tethers),)),
+        tether_c=f("c", b.tethers, (len(b.tethers),)),
+        tether_slack=f("slack", b.tethers, (len(b.tethers),)),
         csphere_radius=f("radius", b.cspheres, (len(b.cspheres),)),
         csphere_offset=f("offset", b.cspheres, (len(b.cspheres), 3)),
+        csphere_direction=_arr([np.zeros(3) if c["direction"] is None else c["direction"]
+                                for c in b.cspheres], (len(b.cspheres), 3), dtype),
         plane_normal=f("normal", b.planes, (len(b.planes), 3)),
         plane_offset=f("offset", b.planes, (len(b.planes),)),
         material_friction=f("friction", b.materials, (len(b.materials),)),
@@ -142,6 +173,8 @@ def build_model(b, dtype):
         material_hz=f("hz", b.materials, (len(b.materials),)),
         material_zeta=f("zeta", b.materials, (len(b.materials),)),
         material_torsional=f("torsional", b.materials, (len(b.materials),)),
+        material_friction_forward=f("friction_forward", b.materials, (len(b.materials),)),
+        material_friction_backward=f("friction_backward", b.materials, (len(b.materials),)),
         geom_size=f("size", G, (len(G), 3)), geom_pos=f("pos", G, (len(G), 3)),
         geom_rot=f("rot", G, (len(G), 3, 3)), geom_color=f("color", G, (len(G), 3)),
         textures=jnp.asarray(textures, dtype),

@@ -135,9 +135,13 @@ class Model(_Replace):
         servo_names, servo_dof (n_servo,), servo_kind (n_servo,) ServoKind.
         limit_dof (n_limit,), jspring_dof (n_jspring,), spring_names,
         spring_body1/spring_body2 (n_spring,).
+        tether_names, tether_body (n_tether,): body of each tether (``Builder.add_tether``).
         csphere_body (n_csphere,) body of each contact sphere.
         pair_sphere (n_pair,) contact sphere, pair_other (n_pair,) plane index or second
         contact sphere, pair_is_sphere (n_pair,) bool, pair_material (n_pair,) material.
+        pair_dir_sphere (n_pair,) the pair's contact sphere with a friction direction,
+        pair_dir_sign (n_pair,) +1 if that sphere is the pair's body b, -1 if body a, 0 if
+        the pair's friction is isotropic (``directional``: any pair is not).
         torsional: whether contacts carry a torsional-friction row.
         toi_correction: whether a body's position is corrected for the time of impact of
             its sphere-plane contacts (``step.toi_correction``; off by default).
@@ -172,10 +176,17 @@ class Model(_Replace):
         jspring_k [N m/rad or N/m], jspring_c [N m s/rad or N s/m], jspring_rest (n_jspring,).
         spring_anchor1/2 (n_spring, 3) body frames [m], spring_k [N/m], spring_c [N s/m],
         spring_rest [m] (n_spring,).
-        csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m].
+        tether_anchor (n_tether, 3) body frame [m], tether_rail_point (n_tether, 3) world
+        [m], tether_rail_dir (n_tether, 3) unit world rail direction, tether_k [N/m],
+        tether_c [N s/m], tether_slack [m] (n_tether,).
+        csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m],
+        csphere_direction (n_csphere, 3) unit friction direction, body frame (zero for
+        isotropic spheres).
         plane_normal (n_plane, 3) unit, plane_offset (n_plane,) [m]: plane n.x = offset.
         material_friction, material_restitution, material_hz, material_zeta,
-        material_torsional [m] (n_material,).
+        material_torsional [m], material_friction_forward, material_friction_backward
+        (n_material,) (directional spheres sliding forward / backward; see
+        ``Builder.add_contact_sphere``).
         geom_size (G, 3), geom_pos (G, 3), geom_rot (G, 3, 3), geom_color (G, 3),
         textures (T, h, w, 3).
         camera_pos (C, 3), camera_rot (C, 3, 3), camera_focal (C,) [m], camera_sensor (C, 2) [m].
@@ -186,8 +197,9 @@ class Model(_Replace):
         "joint_names", "joint_type", "joint_body1", "joint_body2", "joint_row_mask",
         "dof_names", "dof_joint", "dof_kind", "dof_slot",
         "servo_names", "servo_dof", "servo_kind", "limit_dof", "jspring_dof",
-        "spring_names", "spring_body1", "spring_body2",
+        "spring_names", "spring_body1", "spring_body2", "tether_names", "tether_body",
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
+        "pair_dir_sphere", "pair_dir_sign",
         "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched",
@@ -215,11 +227,15 @@ class Model(_Replace):
     spring_names: tuple
     spring_body1: np.ndarray
     spring_body2: np.ndarray
+    tether_names: tuple
+    tether_body: np.ndarray
     csphere_body: np.ndarray
     pair_sphere: np.ndarray
     pair_other: np.ndarray
     pair_is_sphere: np.ndarray
     pair_material: np.ndarray
+    pair_dir_sphere: np.ndarray
+    pair_dir_sign: np.ndarray
     torsional: bool
     toi_correction: bool
     material_names: tuple
@@ -265,8 +281,15 @@ class Model(_Replace):
     spring_k: Any
     spring_c: Any
     spring_rest: Any
+    tether_anchor: Any
+    tether_rail_point: Any
+    tether_rail_dir: Any
+    tether_k: Any
+    tether_c: Any
+    tether_slack: Any
     csphere_radius: Any
     csphere_offset: Any
+    csphere_direction: Any
     plane_normal: Any
     plane_offset: Any
     material_friction: Any
@@ -274,6 +297,8 @@ class Model(_Replace):
     material_hz: Any
     material_zeta: Any
     material_torsional: Any
+    material_friction_forward: Any
+    material_friction_backward: Any
     geom_size: Any
     geom_pos: Any
     geom_rot: Any
@@ -306,6 +331,11 @@ class Model(_Replace):
         return int(self.pair_sphere.shape[0])
 
     @property
+    def directional(self) -> bool:
+        """Whether any contact has directional friction (a static branch of the step)."""
+        return bool(np.any(self.pair_dir_sign != 0))
+
+    @property
     def rows_per_contact(self) -> int:
         return 4 if self.torsional else 3
 
@@ -313,7 +343,8 @@ class Model(_Replace):
     def n_rows(self) -> int:
         """Number of scalar (non-joint-block) constraint rows."""
         return (self.n_servo + int(self.limit_dof.shape[0]) + int(self.jspring_dof.shape[0])
-                + len(self.spring_names) + self.n_pair * self.rows_per_contact)
+                + len(self.spring_names) + len(self.tether_names)
+                + self.n_pair * self.rows_per_contact)
 
     def body(self, name: str) -> int:
         """Index of the body called ``name``."""

@@ -56,7 +56,10 @@ its reason; nothing is fitted to a result of the thesis):
   pose) made the engine diverge to NaN within 0.1 s, at 2.5 ms the same gaits walk.
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
   0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
-  lower corners catch a fall.
+  lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
+  (``friction``, ``restitution``), which every contact sphere uses: a terrain changes it
+  with :func:`thesis.physics.terrain.set_material` and tilts gravity with
+  :func:`thesis.physics.terrain.incline`, both without recompiling.
 * **Camera** (§3.2.1): the Wii remote IR camera, 1024 x 768 pixels, looking forward from
   the front of the trunk; a 33 x 25 deg field of view (the commonly quoted horizontal
   33 deg of that module; square pixels give the vertical). Focal length 1 mm and sensor
@@ -129,7 +132,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
             drum_size=0.2,
             camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32):
-    """Build the Oncilla on a flat floor; returns ``(Model, State)``.
+    """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
         dt: physics step [s] (commands stay at 10 ms, see module docstring).
@@ -147,7 +150,10 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation,
                 restitution=restitution, contact_slop=0.001)
-    b.add_plane("floor", (0, 0, 1), 0.0, color=(0.3, 0.3, 0.3))
+    # the floor's own material (same values as the builder's default, which the bumpers
+    # and toes used before), so a terrain can change it: terrain.set_material("floor")
+    b.add_material("floor", friction, restitution, 0.25 / float(dt), 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)
     z_trunk = BUILD_DEPTH + TOE_RADIUS - HIPS[0][2]
     b.add_box("trunk", TRUNK, (0, 0, z_trunk), mass=MASS - 4 * m_leg, color=(0.2, 0.4, 0.8))
