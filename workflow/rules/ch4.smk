@@ -4,8 +4,9 @@
 # flat (PSO on flat ground from a random swarm, per seed) -> transfer_slopes and
 # transfer_compliant (each target condition twice per seed: the flat run's best
 # particles transferred, and a random swarm; they run side by side) -> the cheap rules
-# that derive the tables and figures of the chapter from those runs. Figures are drawn
-# by report_figures_ch4 (report.smk).
+# that derive the tables and figures of the chapter from those runs. tether re-runs the
+# flat run's evaluations without the safety thread. Figures are drawn by
+# report_figures_ch4 (report.smk).
 
 CH4_GROUPS = {
     "slopes": "the 9 % and 18 % grades (§4.6.1)",
@@ -72,6 +73,29 @@ for _group, _what in CH4_GROUPS.items():
             "--output {output.nc} > {log} 2>&1"
 
 
+rule ch4_tether:
+    message:
+        "The flat run's evaluations again without the safety thread (§4.5), profile {PROFILE}"
+    input:
+        flat=rules.ch4_flat.output.nc,
+    output:
+        nc=result("ch4", "tether"),
+    params:
+        cfg=cfg_slice("ch4/tether"),
+        code=code_of("ch4"),
+    log:
+        log_path("ch4", "tether"),
+    benchmark:
+        bench_path("ch4", "tether")
+    threads: 2
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    shell:
+        "{THESIS} run ch4/tether --profile {PROFILE} --input flat={input.flat} "
+        "--output {output.nc} > {log} 2>&1"
+
+
 for _name, _inputs in CH4_DERIVED.items():
 
     rule:
@@ -101,8 +125,8 @@ for _name, _inputs in CH4_DERIVED.items():
             "--output {output.nc} > {log} 2>&1"
 
 
-CHAPTER_TARGETS["ch4"] = [result("ch4", "flat")] + [
+CHAPTER_TARGETS["ch4"] = [result("ch4", "flat"), result("ch4", "tether")] + [
     result("ch4", f"transfer_{g}") for g in CH4_GROUPS
 ] + [result("ch4", n) for n in CH4_DERIVED]
-FIGURES["ch4"] = ["fig4_3", "fig4_5", "fig4_6", "fig4_7", "fig4_9", "fig4_10"]
-TABLES["ch4"] = ["table4_2", "table4_3"]
+FIGURES["ch4"] = ["fig4_3", "fig4_5", "fig4_6", "fig4_7", "fig4_9", "fig4_10", "tether"]
+TABLES["ch4"] = ["table4_2", "table4_3", "ranksum", "falls", "choices", "simulation_rate"]

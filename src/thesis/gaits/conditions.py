@@ -5,10 +5,12 @@ slopes and the softer front legs change only model leaves (gravity, spring const
 so the batched simulation of :mod:`thesis.gaits.runner` is compiled once for all of them.
 
 * **Slopes** (§4.6.1, "a 9% and an 18% grade, or a 5.14° and a 10.2° slope"): gravity
-  rotated by θ = atan(grade) about the lateral axis, g = 9.81 (-sin θ, 0, -cos θ), so
-  that forward (+x) is uphill. For the single infinite floor plane this is the physics of
-  an inclined treadmill seen in the belt's frame; the fall test (trunk height above the
-  plane, tilt of the trunk against the plane's normal) keeps its meaning.
+  rotated by θ = atan(grade), uphill along +x (:func:`thesis.physics.terrain.incline`).
+  For the single infinite floor plane this is the physics of an inclined treadmill seen
+  in the belt's frame; the fall test (trunk height above the plane, tilt of the trunk
+  against the plane's normal) keeps its meaning.
+* **Safety thread** (§4.5): every condition runs with the thread from the robot's head
+  to an overhead rail (``tether`` config; :func:`untethered` removes it).
 * **Softer front legs** (§4.6.2, "removing one of the two springs in each of the robot's
   front legs"): the extension spring of the front knees (``LF_cable``, ``RF_cable``, the
   knee springs of :mod:`thesis.physics.models.oncilla`) scaled by ``front_spring_factor``
@@ -19,16 +21,15 @@ from __future__ import annotations
 
 import functools
 import importlib
-import math
 
 import jax.numpy as jnp
 import numpy as np
 
+from thesis.physics import terrain
+
 # the module (the package re-exports the constructor under the same name)
 O = importlib.import_module("thesis.physics.models.oncilla")
 
-#: Standard gravity [m/s^2].
-G0 = 9.81
 #: Knee-spring joints of the front legs (LEGS order LF, RF).
 FRONT_KNEE_SPRINGS = ("LF_cable", "RF_cable")
 
@@ -46,14 +47,12 @@ def condition_names(cfg) -> tuple[str, ...]:
 
 def slope_angle(grade: float) -> float:
     """Inclination [rad] of a grade given in percent: atan(grade / 100)."""
-    return math.atan(float(grade) / 100.0)
+    return float(terrain.grade_angle(float(grade) / 100.0))
 
 
 def on_slope(model, grade: float):
     """``model`` on a slope of ``grade`` percent, uphill along +x (gravity rotated)."""
-    th = slope_angle(grade)
-    g = jnp.asarray([-G0 * math.sin(th), 0.0, -G0 * math.cos(th)], model.gravity.dtype)
-    return model.replace(gravity=g)
+    return terrain.incline(model, slope_angle(grade))
 
 
 def front_spring_index(model) -> np.ndarray:
@@ -72,14 +71,28 @@ def soft_front_legs(model, factor: float):
 
 
 @functools.lru_cache(maxsize=4)
-def _oncilla(dt: float, iterations: int):
-    return O.oncilla(dt=dt, solver_iterations=iterations)
+def _oncilla(dt: float, iterations: int, rail: float, slack: float, k: float, c: float):
+    return O.oncilla(dt=dt, solver_iterations=iterations, tether_rail_height=rail,
+                     tether_slack=slack, tether_stiffness=k, tether_damping=c)
 
 
 def base_model(cfg):
-    """(Model, State) of the flat-ground Oncilla of the ``ch4`` config section."""
-    m = cfg["model"]
-    return _oncilla(float(m["dt"]), int(m["solver_iterations"]))
+    """(Model, State) of the flat-ground Oncilla of the ``ch4`` config section, with the
+    safety thread of §4.5 (``tether``)."""
+    m, t = cfg["model"], cfg["tether"]
+    return _oncilla(float(m["dt"]), int(m["solver_iterations"]), float(t["rail_height"]),
+                    float(t["slack"]), float(t["stiffness"]), float(t["damping"]))
+
+
+#: Slack [m] of a thread that never tightens (the robot cannot get this far from the rail).
+NEVER_TAUT = 1.0e3
+
+
+def untethered(model):
+    """``model`` with its safety thread never taut (a slack tether applies exactly no
+    impulse; same compiled rollout). Zero stiffness is not used: the engine's implicit
+    spring row divides by it."""
+    return model.replace(tether_slack=jnp.full_like(model.tether_slack, NEVER_TAUT))
 
 
 def condition_model(cfg, name: str):

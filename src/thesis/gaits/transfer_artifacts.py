@@ -48,7 +48,9 @@ def _load(ctx, name: str) -> xr.Dataset:
 
 def _runs(ctx) -> xr.Dataset:
     """Every ``transfer_*`` input, concatenated along ``condition``."""
-    names = sorted(k for k in ctx.inputs if k.startswith("transfer_"))
+    order = ("transfer_slopes", "transfer_compliant", "transfer_pebbly")  # thesis order
+    names = sorted((k for k in ctx.inputs if k.startswith("transfer_")),
+                   key=lambda k: (order.index(k) if k in order else len(order), k))
     if not names:
         raise KeyError(f"experiment {ctx.key} needs at least one transfer_* input")
     parts = [_load(ctx, n) for n in names]

@@ -469,3 +469,59 @@ def transfer_slopes(ctx) -> xr.Dataset:
 def transfer_compliant(ctx) -> xr.Dataset:
     """§4.6.2: transfer from the normal robot to one with softer front legs."""
     return transfer_conditions(ctx, ["compliant"])
+
+
+def treadmill_predecessors(positions: np.ndarray) -> np.ndarray:
+    """(G, P, d) -> (G, P, d): the particle each evaluation entered from, in treadmill
+    order (the previous particle of the run; the run's first particle from itself)."""
+    flat = positions.reshape(-1, positions.shape[-1])
+    prev = np.concatenate([flat[:1], flat[:-1]])
+    return prev.reshape(positions.shape)
+
+
+def tether(ctx) -> xr.Dataset:
+    """The safety thread's effect (§4.5): every evaluation of the flat run (which ran with
+    the thread) simulated again without it, entered from the same previous particle; the
+    fraction of fallen evaluations per generation with and without the thread."""
+    cfg = ctx.config
+    flat_ds = xr.load_dataset(ctx.input("flat"))
+    seeds = [int(s) for s in flat_ds["seed"].values]
+    pos = flat_ds["position"].values  # (S, G, P, d)
+    S, G, P, _ = pos.shape
+    model, state = C.condition_model(cfg, "flat")
+    if not model.tether_names:
+        raise ValueError("ch4/tether needs the tethered Oncilla (config ch4.tether)")
+    bare = C.untethered(model)
+    timing = Timing()
+    p_from = np.stack([treadmill_predecessors(pos[i]) for i in range(S)])
+    terms = evaluate_particles(bare, state, cfg, p_from.reshape(-1, pos.shape[-1]),
+                               pos.reshape(-1, pos.shape[-1]), unit=S * P, timing=timing)
+    if not terms["finite"].all():
+        bad = int(np.flatnonzero(~terms["finite"])[0])
+        i, g = np.unravel_index(bad // P, (S, G))
+        raise SimulationDiverged("ch4/tether:flat/no_tether", seeds[i], g,
+                                 f"pose of particle {bad % P} in generation {g}")
+    shape = (S, G, P)
+    fallen = np.stack([terms["fallen"].reshape(shape).astype(float),
+                       flat_ds["fallen"].values], axis=1)  # tether 0, 1
+    speed = np.stack([terms["speed"].reshape(shape), flat_ds["speed"].values], axis=1)
+    score = np.stack([terms["score"].reshape(shape), flat_ds["score"].values], axis=1)
+    dims = ("seed", "tether", "generation", "particle")
+    ds = xr.Dataset(
+        dict(fallen=(dims, fallen, dict(units="1", long_name="1 if the robot fell")),
+             speed=(dims, speed, dict(units="m s-1", long_name="mean forward speed over the "
+                                                             "window")),
+             score=(dims, score, dict(units="m s-1", long_name=_SCORE_LONG)),
+             fall_fraction=(dims[:3], fallen.mean(axis=-1), dict(
+                 units="1", long_name="fraction of fallen evaluations per generation"))),
+        coords=dict(seed=seeds, tether=[0, 1], generation=np.arange(G), particle=np.arange(P)))
+    ds["tether"].attrs.update(units="1", long_name="1: with the safety thread (the flat run); "
+                                                   "0: the same evaluations without it")
+    for k, v in timing.variables().items():
+        ds[k] = v
+    t = cfg["tether"]
+    ds.attrs.update(thesis_ref="§4.5 (safety thread)", seeds=seeds,
+                    **{f"tether_{k}": float(v) for k, v in t.items()},
+                    **{k: flat_ds.attrs[k] for k in ("particles", "generations", "run_seconds",
+                                                     "transition_seconds") if k in flat_ds.attrs})
+    return ds

@@ -131,7 +131,9 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
             drum_size=0.2,
-            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32):
+            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32,
+            tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
+            tether_damping=0.0):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -143,6 +145,13 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         link_stiffness [N/m], link_damping [N s/m]: the pantograph's parallel link.
         drum_size: edge [m] of the invisible knee-drum box whose inertia stands for the
             reflected rotor inertia of the knee motor.
+        tether_rail_height: None (default, no tether) or the height [m] of an overhead
+            rail along the treadmill's axis (world x, above y = 0) with the safety thread
+            of §4.5 from the robot's head (the trunk's front top edge) to a carriage
+            sliding freely on it (``Builder.add_tether``): a tension-only spring of
+            ``tether_stiffness`` [N/m] and ``tether_damping`` [N s/m], slack while the head
+            is within ``tether_slack`` [m] of the rail. Its leaves (``tether_k`` ...) may
+            be changed without recompiling; zero stiffness and damping remove it.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
     geom = geom or L.oncilla_geometry()
@@ -200,6 +209,9 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
     b.add_camera("onboard", "trunk", (lx, 0.0, 0.0), cam_rot, 1e-3, (fw, 0.75 * fw),
                  camera_pixels)
+    if tether_rail_height is not None:
+        b.add_tether("thread", "trunk", (lx, 0.0, z_trunk + lz), (0.0, 0.0, tether_rail_height),
+                     (1.0, 0.0, 0.0), tether_stiffness, tether_damping, tether_slack)
     model, state = b.build(dtype)
     return model, state
 
