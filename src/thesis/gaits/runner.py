@@ -279,17 +279,18 @@ def speed_terms(model, sim, t_start, fall_height: float, t_end=None):
     w = (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)  # (B, K)
     first = np.argmax(w, axis=1)
     last = w.shape[1] - 1 - np.argmax(w[:, ::-1], axis=1)
+    start = np.maximum(first - 1, 0)  # the pose at the window's start (a sample at t_start)
     x = pos[:, :, trunk, 0]
     rows = np.arange(B)
-    distance = x[rows, last] - x[rows, first]
-    span = t[last] - t0
+    distance = x[rows, last] - x[rows, start]
+    span = t[last] - np.where(first > 0, t[start], t0)
     with np.errstate(invalid="ignore"):
         down = ((pos[:, :, trunk, 2] < fall_height) | (rot[:, :, trunk, 2, 2] < 0.5)) & w
     bad = exploded(model, sim)
     finite = np.isfinite(pos).all(axis=(1, 2, 3)) & np.isfinite(rot).all(axis=(1, 2, 3, 4))
     fell = down.any(axis=1)
     t_fall = t[np.argmax(down, axis=1)]
-    upright = np.where(fell, (t_fall - t0) / span, 1.0)
+    upright = np.where(fell, (t_fall - t0) / (t[last] - t0), 1.0)
     upright = np.where(bad, 0.0, np.clip(upright, 0.0, 1.0))
     distance = np.where(bad, np.nan, distance)
     return dict(distance=distance, speed=distance / span, fallen=fell | bad, upright=upright,

@@ -32,18 +32,13 @@ import xarray as xr
 
 from thesis.gaits import conditions as C
 from thesis.gaits import leg as L
-from thesis.gaits.transfer_runs import FAMILY, PARAMETERS
+from thesis.gaits.transfer_runs import FAMILY, PARAMETERS, load_input
 from thesis.optim import pso, transfer
 
 _MIXED = "mixed (see parameter_unit)"
 
 
-def _load(ctx, name: str) -> xr.Dataset:
-    path = ctx.input(name)
-    try:
-        return xr.load_dataset(path, engine="h5netcdf")
-    except (OSError, ValueError) as err:
-        raise ValueError(f"cannot read input {name} ({path}): {err}") from err
+_load = load_input
 
 
 def _runs(ctx) -> xr.Dataset:

@@ -53,6 +53,15 @@ PARAMETERS = ("f", "a", "x0", "y0f", "y0r", "t_stance", "l0f", "l1f", "l0r", "l1
 FALLEN_SCORE = -2.0
 
 
+def load_input(ctx, name: str) -> xr.Dataset:
+    """The experiment's input ``name`` as a dataset; an unreadable file is named."""
+    path = ctx.input(name)
+    try:
+        return xr.load_dataset(path, engine="h5netcdf")
+    except (OSError, ValueError) as err:
+        raise ValueError(f"cannot read input {name} ({path}): {err}") from err
+
+
 def protocol_times(cfg) -> tuple[float, float, float]:
     """(window start, window end, simulated duration) [s] of one evaluation."""
     pr = cfg["protocol"]
@@ -357,7 +366,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
     cfg = ctx.config
     seeds = [int(s) for s in cfg["seeds"]]
     P, G = int(cfg["pso"]["particles"]), int(cfg["pso"]["generations"])
-    src = xr.load_dataset(ctx.input("flat"))
+    src = load_input(ctx, "flat")
     missing = [s for s in seeds if s not in src["seed"].values]
     if missing or src.sizes["particle"] < P:
         raise ValueError(f"input flat ({ctx.input('flat')}) lacks seeds {missing} or has "
@@ -484,7 +493,7 @@ def tether(ctx) -> xr.Dataset:
     the thread) simulated again without it, entered from the same previous particle; the
     fraction of fallen evaluations per generation with and without the thread."""
     cfg = ctx.config
-    flat_ds = xr.load_dataset(ctx.input("flat"))
+    flat_ds = load_input(ctx, "flat")
     seeds = [int(s) for s in flat_ds["seed"].values]
     pos = flat_ds["position"].values  # (S, G, P, d)
     S, G, P, _ = pos.shape
