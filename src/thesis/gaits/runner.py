@@ -48,11 +48,13 @@ def command_time(t):
     return jnp.floor(t / COMMAND_PERIOD + 1e-3) * COMMAND_PERIOD
 
 
-def batch_states(state, n: int, lateral=None, heading=None):
+def batch_states(state, n: int, lateral=None, heading=None, forward=None):
     """Stack ``n`` copies of ``state`` (leading batch axis); ``lateral`` (n,) shifts each
     robot sideways [m] (used by the tracking experiment); ``heading`` (n,) turns each
     robot about the vertical axis through the world origin [rad] (the robot standing at
-    rest, so only positions and orientations change; used for repeated evaluations)."""
+    rest, so only positions and orientations change; used for repeated evaluations);
+    ``forward`` (n,) then shifts each robot along x [m] (a start further along a strip of
+    pebbles)."""
     s = jax.tree.map(lambda x: jnp.broadcast_to(x, (n,) + x.shape), state)
     if lateral is not None:
         shift = jnp.zeros((n, 1, 3), s.pos.dtype).at[:, 0, 1].set(jnp.asarray(lateral, s.pos.dtype))
@@ -64,6 +66,9 @@ def batch_states(state, n: int, lateral=None, heading=None):
                         jnp.stack([z, z, o], -1)], -2)  # (n, 3, 3)
         s = s.replace(pos=jnp.einsum("nij,nbj->nbi", rz, s.pos),
                       rot=jnp.einsum("nij,nbjk->nbik", rz, s.rot))
+    if forward is not None:
+        shift = jnp.zeros((n, 1, 3), s.pos.dtype).at[:, 0, 0].set(jnp.asarray(forward, s.pos.dtype))
+        s = s.replace(pos=s.pos + shift)
     return s
 
 
@@ -88,7 +93,7 @@ def _compiled(command_fn, n_steps: int, stride: int, chunk=1):
 
 
 def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
-             heading=None, chunk=1):
+             heading=None, chunk=1, forward=None):
     """Simulate a batch of robots under ``command_fn``.
 
     Args:
@@ -99,6 +104,7 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
         duration: simulated time [s].
         lateral: optional (B,) initial sideways offsets [m].
         heading: optional (B,) initial headings [rad] (see :func:`batch_states`).
+        forward: optional (B,) initial shifts along x [m] (see :func:`batch_states`).
         chunk: robots simulated together per device (``batched_rollout``); ``None``
             vmaps the whole batch, faster for large batches; the default 1 runs robots
             one after the other (chapter 3's results are bound to it bit for bit).
@@ -113,7 +119,7 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
     n_cmd = int(round(duration / COMMAND_PERIOD))
     fn = _compiled(command_fn, n_cmd * stride, stride, chunk)
     t0 = time.perf_counter()
-    pos, rot = fn(model, batch_states(state0, batch, lateral, heading), memory)
+    pos, rot = fn(model, batch_states(state0, batch, lateral, heading, forward), memory)
     pos = np.asarray(pos)
     wall = time.perf_counter() - t0
     rot = np.asarray(rot)

@@ -126,7 +126,7 @@ class Timing:
 
 
 def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Timing,
-                       heading=None) -> dict:
+                       heading=None, forward=None) -> dict:
     """Simulate one evaluation (:func:`protocol_times`) of each particle.
 
     Args:
@@ -138,6 +138,8 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
             the last one padded with copies of its first robot.
         timing: accumulates the simulated and measured time.
         heading: optional (n,) initial headings [rad].
+        forward: optional (n,) initial positions along x [m] (where on a strip of pebbles
+            the evaluation starts).
 
     Returns:
         dict of (n,) arrays: :func:`thesis.gaits.runner.speed_terms` and ``score``.
@@ -155,8 +157,9 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
         pad = np.concatenate([idx, np.full(unit - len(idx), idx[0])])
         mem = dict(p_from=p_from[pad].astype(np.float32), p_to=p_to[pad].astype(np.float32))
         h = None if heading is None else np.asarray(heading, np.float64)[pad]
+        fw = None if forward is None else np.asarray(forward, np.float64)[pad]
         c0 = time.process_time()
-        sim = R.simulate(model, state, fn, mem, dur, heading=h, chunk=None)
+        sim = R.simulate(model, state, fn, mem, dur, heading=h, chunk=None, forward=fw)
         timing.add(len(idx) * dur, sim["wall"], time.process_time() - c0)
         terms = R.speed_terms(model, sim, t0, float(cfg["protocol"]["fall_height"]), t1)
         parts.append({k: v[:len(idx)] for k, v in terms.items()})
