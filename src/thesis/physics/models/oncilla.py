@@ -130,7 +130,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             knee_torque=4.0, scapula_torque=2.0, hip_velocity=12.0, knee_velocity=12.0,
             scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
-            drum_size=0.2,
+            drum_size=0.2, field=None,
             camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
@@ -143,6 +143,15 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         link_stiffness [N/m], link_damping [N s/m]: the pantograph's parallel link.
         drum_size: edge [m] of the invisible knee-drum box whose inertia stands for the
             reflected rotor inertia of the knee motor.
+        field: optional static sphere field on the floor (pebbles, §4.6): a dict of
+            :meth:`thesis.physics.Builder.add_sphere_field` arguments (``centres``,
+            ``radii``, optional ``k``, ``capacity``, ``bounds``, ``cell_size``,
+            ``material`` (default ``"floor"``)); its ``spheres`` may be ``"toes"`` (the
+            default: the four toe spheres, which carry the robot), ``"all"`` (the trunk
+            bumpers too, which touch the ground only when the robot has fallen; with K = 2
+            that is 16 field contacts instead of 8, and the cell grows to the bumpers'
+            reach) or contact-sphere indices. Without it the model is the one every
+            chapter used before the option.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
     geom = geom or L.oncilla_geometry()
@@ -161,6 +170,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
         b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
     femur, tibia, foot = geom.femur, geom.tibia, geom.foot
+    toes = []
     for leg, side, (hx, hy, hz) in zip(L.LEGS, L.SIDES, HIPS):
         hip = np.array([hx, hy, z_trunk + hz])
         knee = hip + femur * _u(hip0)
@@ -188,7 +198,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         b.add_hinge(f"{leg}_heel", f"{leg}_tibia", f"{leg}_foot", heel, (0, -1, 0))
         b.add_spring(f"{leg}_link", f"{leg}_femur", f"{leg}_foot", hip, top, link_stiffness,
                      link_damping)
-        b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS, (0, 0, -(femur + foot) / 2))
+        toes.append(b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS,
+                                         (0, 0, -(femur + foot) / 2)))
         b.add_position_servo(f"{leg}_shoulder", servo_gain, scapula_torque, scapula_velocity,
                              axis_index=0, name=f"{leg}_scapula")
         b.add_position_servo(f"{leg}_shoulder", servo_gain, hip_torque, hip_velocity,
@@ -200,8 +211,24 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
     b.add_camera("onboard", "trunk", (lx, 0.0, 0.0), cam_rot, 1e-3, (fw, 0.75 * fw),
                  camera_pixels)
+    if field is not None:
+        kw = dict(field)
+        spheres = kw.pop("spheres", "toes")
+        spheres = {"all": None, "toes": toes}.get(spheres, spheres) \
+            if isinstance(spheres, str) else spheres
+        if isinstance(spheres, str):
+            raise ValueError(f"oncilla field spheres must be 'all', 'toes' or indices, "
+                             f"got {spheres!r}")
+        kw.setdefault("material", "floor")
+        b.add_sphere_field(kw.pop("name", "field"), kw.pop("centres"), kw.pop("radii"),
+                           spheres=spheres, **kw)
     model, state = b.build(dtype)
     return model, state
+
+
+def toe_spheres() -> tuple:
+    """Contact-sphere indices of the four toes (LEGS order); 0-3 are the trunk bumpers."""
+    return (4, 5, 6, 7)
 
 
 def build_offsets(geom: L.LegGeometry | None = None) -> np.ndarray:
