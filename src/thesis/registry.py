@@ -46,6 +46,8 @@ EXPERIMENTS: dict[str, str] = {
     "ch7/pendulum_pixels": "thesis.diffphys.pendulum:pendulum",
     "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
     "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
+    # the engine's own benchmarks (results/<profile>/physics/)
+    "physics/sphere_field": "thesis.physics.bench:sphere_field",
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -53,6 +55,7 @@ BENCHMARKS: dict[str, str] = {
     "chirpz": "ch2/chirpz_scaling",
     "physics": "ch7/table7_1",
     "mjx": "ch7/table7_1_peers",
+    "field": "physics/sphere_field",
 }
 
 
@@ -60,8 +63,8 @@ BENCHMARKS: dict[str, str] = {
 #: chapter's section (the default). Provenance records exactly these, Snakemake reruns
 #: an experiment only when they change, and the experiment's ``ctx.config`` holds only
 #: these keys of its chapter (reading an undeclared key fails instead of going stale).
-#: The engine's experiments read no ``physics`` key: that section holds the Tab. 7.1
-#: benchmark only.
+#: The engine's experiments read no ``physics`` key: that section holds the engine's
+#: benchmarks only (Tab. 7.1, the sphere field).
 READS: dict[str, tuple[str, ...]] = {
     "ch2/cluttered_mnist": ("ch2.data",),
     "ch2/table2_2_ffn_spn": ("ch2.seeds", "ch2.grid", "ch2.train", "ch2.chirpz_output",
@@ -95,6 +98,7 @@ READS: dict[str, tuple[str, ...]] = {
     "ch7/pendulum_pixels": ("ch7.pendulum",),
     "ch7/table7_1": ("physics.bench",),
     "ch7/table7_1_peers": ("physics.bench",),
+    "physics/sphere_field": ("physics.sphere_field",),
 }
 
 

@@ -118,6 +118,7 @@ class Builder:
         self.toi_correction = bool(toi_correction)
         self.bodies, self.joints, self.servos, self.springs, self.jsprings = [], [], [], [], []
         self.tethers = []
+        self.field = None
         self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
         self.geoms, self.cameras, self.textures = [], [], []
         self.add_material("default", friction, restitution,
@@ -392,6 +393,50 @@ class Builder:
     def add_sphere_pair(self, sphere1, sphere2, material="default"):
         """Let contact spheres ``sphere1`` and ``sphere2`` (indices) collide."""
         self.sphere_pairs.append((int(sphere1), int(sphere2), self._material(material)))
+
+    def add_sphere_field(self, name, centres, radii, material="default", *, k=2,
+                         spheres=None, cell_size=None, capacity=None, bounds=None):
+        """A static field of world-fixed spheres (pebbles, rough ground) that collide with
+        the dynamic contact spheres ``spheres`` (indices; default: every contact sphere
+        at ``build()``), each checking only its ``k`` nearest field spheres per step.
+
+        Detection costs the same for any number N of field spheres: at build time the
+        spheres are sorted into a uniform x-y grid of ``cell_size`` [m] cells holding at
+        most ``capacity`` spheres each (``thesis.physics.collision.field_contacts``); a
+        query sphere looks at the 3 x 3 cells around its centre only and keeps the ``k``
+        smallest gaps, so the solver gets ``k`` contact rows per query sphere (inactive
+        ones clamp to zero impulse). Field spheres never collide with planes or with each
+        other, and they do not move.
+
+        Args:
+            name: the field's name (one field per model).
+            centres: (N, 3) world centres [m]. radii: () or (N,) radii [m].
+            material: contact material (a query sphere's own material overrides it, as
+                against planes).
+            k: field spheres per query sphere and step (static).
+            spheres: contact-sphere indices that collide with the field.
+            cell_size: grid cell edge [m]; minimum: the largest field radius plus the
+                largest query-sphere radius (a touching sphere then lies in the 3 x 3
+                neighbourhood); default 1 % more than that.
+            capacity: spheres per cell; default: the most in any cell of this layout.
+            bounds: ((x_min, y_min), (x_max, y_max)) the grid covers [m]; default: the
+                centres' bounding box. Other layouts of the same model
+                (:func:`thesis.physics.terrain.set_field`) must fit the bounds and the
+                capacity, which fix the compiled shapes.
+        Returns ``name``.
+        """
+        if self.field is not None:
+            raise ValueError(f"model {self.name!r} already has the sphere field "
+                             f"{self.field['name']!r}; one field per model")
+        centres = np.asarray(centres, np.float64).reshape(-1, 3)
+        radii = np.broadcast_to(np.asarray(radii, np.float64), (centres.shape[0],)).copy()
+        if int(k) < 1:
+            raise ValueError(f"sphere field {name!r}: k must be >= 1, got {k}")
+        self.field = dict(name=name, centres=centres, radii=radii,
+                          material=self._material(material), k=int(k),
+                          spheres=None if spheres is None else [int(i) for i in spheres],
+                          cell_size=cell_size, capacity=capacity, bounds=bounds)
+        return name
 
     # ---- rendering ------------------------------------------------------------------
     def add_texture(self, name, image):

@@ -146,12 +146,12 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
             jnp.where(taut, -INF, 0.0), 0.0, 0.0, m.n_body, m.tether_body)
 
     # contacts
-    np_ = m.n_pair
+    np_ = m.n_contact
     contact_start = sum(p[0].shape[0] for p in parts)
     if np_:
         n, ra, rb = contacts["normal"], contacts["ra"], contacts["rb"]
         ba, bb = contacts["body_a"], contacts["body_b"]
-        mat = m.pair_material
+        mat = m.contact_material
         erp, gamma = softness(m.material_hz[mat], m.material_zeta[mat], dt)
         ja_n = jnp.concatenate([-n, -jnp.cross(ra, n)], -1)
         jb_n = jnp.concatenate([n, jnp.cross(rb, n)], -1)
@@ -165,7 +165,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
             0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
         if m.directional:  # t1: -mu_forward <= lambda / lambda_n <= mu_backward
             mu = m.material_friction[mat]
-            dirn = np.asarray(m.pair_dir_sign != 0)
+            dirn = np.asarray(m.contact_dir_sign != 0)
             bounds = ((jnp.where(dirn, m.material_friction_backward[mat], mu),
                        jnp.where(dirn, m.material_friction_forward[mat], mu)), (mu, mu))
         else:  # isotropic: the program of a model without directional spheres

@@ -25,13 +25,16 @@ __all__ = ["sensors", "contact_normal_force", "tether_force"]
 
 
 def contact_normal_force(m: Model, state: State):
-    """(n_csphere,) normal contact force on each contact sphere in the last step [N]."""
-    if m.n_pair == 0:
+    """(n_csphere,) normal contact force on each contact sphere in the last step [N]
+    (planes, listed sphere pairs and the sphere field together)."""
+    if m.n_contact == 0:
         return jnp.zeros((m.n_csphere,), state.pos.dtype)
-    start = m.n_rows - m.rows_per_contact * m.n_pair
-    f = state.row_impulse[start:start + m.n_pair] / m.dt
+    start = m.n_rows - m.rows_per_contact * m.n_contact
+    f = state.row_impulse[start:start + m.n_contact] / m.dt
     other = np.where(m.pair_is_sphere, m.pair_other, m.n_csphere)  # n_csphere = dropped
-    seg = np.concatenate([m.pair_sphere, other]).astype(np.int32)
+    query = np.repeat(m.field_query, m.field_k)  # field contacts: the query sphere only
+    seg = np.concatenate([m.pair_sphere, query, other,
+                          np.full(query.shape, m.n_csphere)]).astype(np.int32)
     return jax.ops.segment_sum(jnp.concatenate([f, f]), seg, num_segments=m.n_csphere + 1)[:-1]
 
 

@@ -18,6 +18,15 @@ the robot's heading along +x climbs. What changes is the meaning of world z: it 
 slope's normal, not the vertical (an IMU's ``imu_up`` reads the slope's normal, the
 accelerometer reads the true specific force, since it subtracts the model's gravity).
 
+Sphere fields (pebbles): :func:`set_field` packs another layout of the same number of
+cells and slots into the field's leaves (``field_centre``, ``field_radius``), and
+:func:`clear_field` empties it, so a flat floor and a pebbly one can share a compiled
+rollout. For a batch whose robots meet different pebbles, either stack per-robot layouts
+(``batched_rollout(..., per_robot={"field_centre": ..., "field_radius": ...})``, one
+copy of the field per robot) or lay out one long field and start each robot at its own
+place along it (its initial state shifted; no copies, the cheaper choice for a long
+strip).
+
 Floor materials: :func:`set_material` changes the leaves of a named contact material
 (Coulomb friction, restitution, softness); a contact uses the material of its contact
 sphere when that has one, else the plane's (``Builder.add_contact_sphere``), so a
@@ -30,10 +39,12 @@ from __future__ import annotations
 import math
 
 import jax.numpy as jnp
+import numpy as np
 
+from thesis.physics.tables import pack_field
 from thesis.physics.types import Model
 
-__all__ = ["grade_angle", "incline", "set_material"]
+__all__ = ["grade_angle", "incline", "set_material", "set_field", "clear_field"]
 
 
 def grade_angle(grade):
@@ -81,9 +92,10 @@ def set_material(model: Model, name: str, **values) -> Model:
     (contact softness, see ``constraint.py``), ``torsional`` [m] (torsional friction
     length), ``friction_forward`` / ``friction_backward`` (directional contact spheres,
     ``Builder.add_contact_sphere(..., direction=...)``; ``friction`` is then their lateral
-    bound, and setting ``friction`` alone leaves these two unchanged). Raises ``KeyError`` for an unknown material, ``TypeError`` for an unknown
-    keyword, and ``ValueError`` for a torsional length on a model built without
-    torsional rows (which rows exist is topology, fixed at build time).
+    bound, and setting ``friction`` alone leaves these two unchanged). Raises
+    ``KeyError`` for an unknown material, ``TypeError`` for an unknown keyword, and
+    ``ValueError`` for a torsional length on a model built without torsional rows (which
+    rows exist is topology, fixed at build time).
     """
     if name not in model.material_names:
         raise KeyError(f"model {model.name!r} has no material {name!r}; "
@@ -104,3 +116,37 @@ def set_material(model: Model, name: str, **values) -> Model:
         arr = changes.get(leaf, getattr(model, leaf))
         changes[leaf] = arr.at[i].set(jnp.asarray(value, arr.dtype))
     return model.replace(**changes)
+
+
+def _field_grid(model: Model) -> dict:
+    if not model.n_field_pair:
+        raise ValueError(f"model {model.name!r} has no sphere field (Builder.add_sphere_field)")
+    return dict(grid=model.field_grid, origin=np.asarray(model.field_origin, np.float64),
+                cell=float(model.field_cell))
+
+
+def set_field(model: Model, centres, radii) -> Model:
+    """The model with its sphere field's spheres replaced by ``centres`` (N, 3) [m] and
+    ``radii`` (() or (N,)) [m], any N that fits the field's grid.
+
+    Host-side (numpy) packing into the grid built by ``Builder.add_sphere_field``: the
+    spheres must lie within its bounds, no cell may hold more than its capacity, and no
+    radius may exceed what the cell size allows for the query spheres (``ValueError``
+    otherwise, naming the field). The topology is unchanged: no recompilation.
+    """
+    layout = _field_grid(model)
+    centres = np.asarray(centres, np.float64).reshape(-1, 3)
+    radii = np.broadcast_to(np.asarray(radii, np.float64), (centres.shape[0],))
+    r_query = float(np.max(np.asarray(model.csphere_radius)[model.field_query]))
+    if radii.size and float(radii.max()) + r_query > layout["cell"] * (1 + 1e-6):
+        raise ValueError(f"sphere field {model.field_name!r}: radius {float(radii.max())} "
+                         f"too large for cells of {layout['cell']} m")
+    centre, radius = pack_field(centres, radii, layout, model.field_name)
+    dtype = model.field_centre.dtype
+    return model.replace(field_centre=jnp.asarray(centre, dtype),
+                         field_radius=jnp.asarray(radius, dtype))
+
+
+def clear_field(model: Model) -> Model:
+    """The model with an empty sphere field (every slot empty; a flat floor)."""
+    return set_field(model, np.zeros((0, 3)), np.zeros((0,)))
