@@ -27,7 +27,7 @@ def test_slopes_rotate_gravity_uphill_forward(cfg):
         assert np.linalg.norm(g) == pytest.approx(np.linalg.norm(np.asarray(flat.gravity)), 1e-6)
         assert math.degrees(math.atan2(-g[0], -g[2])) == pytest.approx(deg, abs=0.01)
         assert g[0] < 0 and g[1] == 0  # a robot walking along +x climbs
-    assert C.condition_names(cfg) == ("grade9", "grade18", "compliant")
+    assert C.condition_names(cfg) == ("grade9", "grade18", "compliant", "pebbly")
 
 
 def test_soft_front_legs_halve_only_the_front_knee_springs(cfg):
@@ -117,3 +117,40 @@ def test_heading_turns_the_robot_about_the_vertical(cfg):
     r = np.asarray(s.rot[1])
     np.testing.assert_allclose(np.einsum("bij,bkj->bik", r, r), np.broadcast_to(np.eye(3), r.shape),
                                atol=1e-6)
+
+
+def test_pebble_layout_covers_the_strip_with_1cm_pebbles_on_the_floor(cfg):
+    pc = cfg["pebbles"]
+    c, r = C.pebble_layout(cfg, 0)
+    assert r == pytest.approx(0.5 * pc["diameter"])
+    L, W = pc["strip_length"], pc["strip_width"]
+    # expected coverage: footprints over the strip's area
+    assert len(c) * math.pi * r * r / (L * W) == pytest.approx(pc["coverage"], rel=1e-3)
+    assert c[:, 0].min() >= 0 and c[:, 0].max() <= L
+    assert np.abs(c[:, 1]).max() <= W / 2
+    np.testing.assert_allclose(c[:, 2], r)  # resting on the floor
+    np.testing.assert_array_equal(C.pebble_layout(cfg, 0)[0], c)  # one layout per root seed
+    assert not np.array_equal(C.pebble_layout(cfg, 1)[0][:10], c[:10])
+
+
+def test_pebbly_model_has_the_field_and_the_thread(cfg):
+    m, _ = C.condition_model(cfg, "pebbly", 0)
+    assert m.field_name == "pebbles" and m.field_k == cfg["pebbles"]["k"]
+    assert m.tether_names == ("thread",)
+    with pytest.raises(ValueError, match="root seed"):
+        C.condition_model(cfg, "pebbly")
+
+
+def test_start_range_leaves_room_for_the_walk_and_names_a_short_strip(cfg):
+    assert C.start_range(cfg, "flat", 1.0) is None
+    lo, hi = C.start_range(cfg, "pebbly", 4.0)
+    m = cfg["pebbles"]["start_margin"]
+    assert lo == m and hi == pytest.approx(cfg["pebbles"]["strip_length"] - m - 1.5 * 4.0)
+    short = dict(cfg, pebbles=dict(cfg["pebbles"], strip_length=3.0))
+    with pytest.raises(ValueError, match="strip_length"):
+        C.start_range(short, "pebbly", 4.0)
+    s = TR.start_sampler(cfg, 0, "pebbly", 4.0)
+    x0, x1 = s(0, 50), s(1, 50)
+    assert x0.min() >= lo and x0.max() <= hi and not np.array_equal(x0, x1)
+    np.testing.assert_array_equal(s(0, 50), x0)
+    assert TR.start_sampler(cfg, 0, "grade9", 4.0) is None

@@ -16,6 +16,7 @@ from thesis import cli
 from thesis.config import load_config
 from thesis.errors import SimulationDiverged
 from thesis.gaits import conditions as C
+from thesis.gaits import runner as R
 from thesis.gaits import transfer_artifacts as TA
 from thesis.gaits import transfer_runs as TR
 from thesis.optim import pso
@@ -160,3 +161,40 @@ def test_corrupt_flat_input_is_named(tiny, tmp_path):
         tmp_path / "other.nc", engine="h5netcdf")
     with pytest.raises(ValueError, match="lacks seeds"):
         TR.transfer_compliant(ctx("ch4/transfer_compliant", {"flat": tmp_path / "other.nc"}))
+
+
+def test_pebbles_end_to_end_and_the_field_is_touched(tiny, tmp_path):
+    """The pebbly condition at a tiny size: both arms, every particle, Tab. 4.4 and
+    Fig. 4.8; and the pebbles carry the robot (the same standing gait stands higher on
+    the strip than on the bare floor, by different amounts at different starts)."""
+    cfg, ctx, _, _, inputs = tiny
+    peb = TR.transfer_pebbly(ctx("ch4/transfer_pebbly", {"flat": inputs["flat"]}))
+    check_result(peb)
+    assert list(peb["condition"].values) == ["pebbly"]
+    assert peb["score"].shape == (3, 1, 2, 2, 2)
+    assert np.isfinite(peb["speed"].values).all()
+    assert peb.attrs["pebble_count"] > 1000
+    path = tmp_path / "transfer_pebbly.nc"
+    peb.to_netcdf(path, engine="h5netcdf")
+    t44 = TA.table4_4(ctx("ch4/table4_4", {"flat": inputs["flat"], "transfer_pebbly": path}))
+    assert set(t44["terrain"].values) == {"normal", "pebbly"}
+    assert np.isfinite(t44["speed"].sel(terrain="pebbly").values).all()
+    f48 = TA.fig4_8(ctx("ch4/fig4_8", {"transfer_pebbly": path}))
+    check_result(f48)
+    assert f48["p_greater"].dims == ("seed", "generation")
+    assert f48["fisher_two_sided"].dims == ("seed",)
+
+    c = ctx("x").config
+    flat_m, s0 = C.condition_model(c, "flat")
+    peb_m, s1 = C.condition_model(c, "pebbly", 0)
+    lo, hi = C.start_range(c, "pebbly", 0.4)
+    fw = np.linspace(lo, hi, 3)
+    p = np.tile(0.5 * (TR.FAMILY.lower + TR.FAMILY.upper), (3, 1)).astype(np.float32)
+    fn = R.gait_command_fn(TR.FAMILY, 0.1, 0.1)
+    z = []
+    for m, s in ((flat_m, s0), (peb_m, s1)):
+        sim = R.simulate(m, s, fn, dict(p_from=p, p_to=p), 0.4, chunk=None, forward=fw)
+        z.append(sim["pos"][:, -10:, R.O.trunk_index(m), 2].mean(axis=1))
+    assert np.ptp(z[0]) < 1e-4  # the bare floor is the same everywhere
+    assert (z[1] - z[0]).max() > 1e-3  # standing on pebbles lifts the trunk
+    assert np.ptp(z[1]) > 1e-4  # and by how much depends on where it stands

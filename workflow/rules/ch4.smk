@@ -1,9 +1,9 @@
 # Chapter 4: transfer learning of Oncilla gaits with PSO (thesis.gaits.transfer_runs,
 # thesis.gaits.transfer_artifacts).
 #
-# flat (PSO on flat ground from a random swarm, per seed) -> transfer_slopes and
-# transfer_compliant (each target condition twice per seed: the flat run's best
-# particles transferred, and a random swarm; they run side by side) -> the cheap rules
+# flat (PSO on flat ground from a random swarm, per seed) -> transfer_slopes,
+# transfer_compliant and transfer_pebbly (each target condition twice per seed: the flat
+# run's best particles transferred, and a random swarm; they run side by side) -> the cheap rules
 # that derive the tables and figures of the chapter from those runs. tether re-runs the
 # flat run's evaluations without the safety thread. Figures are drawn by
 # report_figures_ch4 (report.smk).
@@ -11,15 +11,18 @@
 CH4_GROUPS = {
     "slopes": "the 9 % and 18 % grades (§4.6.1)",
     "compliant": "softer front legs (§4.6.2)",
+    "pebbly": "a floor covered in 1 cm pebbles (§4.6.3)",
 }
 # derived artifact -> the runs it reads (input name -> experiment of the producing rule)
 CH4_DERIVED = {
     "table4_2": ["flat", "transfer_slopes"],
     "table4_3": ["flat", "transfer_compliant"],
+    "table4_4": ["flat", "transfer_pebbly"],
     "fig4_3": ["flat"],
     "fig4_5": ["transfer_slopes"],
     "fig4_6": ["flat", "transfer_slopes"],
     "fig4_7": ["transfer_compliant"],
+    "fig4_8": ["transfer_pebbly"],
     "fig4_9": ["transfer_slopes"],
     "fig4_10": [f"transfer_{g}" for g in CH4_GROUPS],
 }
@@ -128,5 +131,6 @@ for _name, _inputs in CH4_DERIVED.items():
 CHAPTER_TARGETS["ch4"] = [result("ch4", "flat"), result("ch4", "tether")] + [
     result("ch4", f"transfer_{g}") for g in CH4_GROUPS
 ] + [result("ch4", n) for n in CH4_DERIVED]
-FIGURES["ch4"] = ["fig4_3", "fig4_5", "fig4_6", "fig4_7", "fig4_9", "fig4_10", "tether"]
-TABLES["ch4"] = ["table4_2", "table4_3", "ranksum", "falls", "choices", "simulation_rate"]
+FIGURES["ch4"] = ["fig4_3", "fig4_5", "fig4_6", "fig4_7", "fig4_8", "fig4_9", "fig4_10",
+                  "tether"]
+TABLES["ch4"] = ["table4_2", "table4_3", "table4_4", "ranksum", "falls", "choices", "simulation_rate"]

@@ -11,6 +11,12 @@ so the batched simulation of :mod:`thesis.gaits.runner` is compiled once for all
   against the plane's normal) keeps its meaning.
 * **Safety thread** (§4.5): every condition runs with the thread from the robot's head
   to an overhead rail (``tether`` config; :func:`untethered` removes it).
+* **Pebbles** (§4.6.3, "a flat surface covered in pebbles ... with a diameter of
+  approximately 1 cm"): the engine's static sphere field (``oncilla(field=...)``) of
+  equal spheres resting on the floor, scattered uniformly over a strip along x
+  (:func:`pebble_layout`); each evaluation starts at its own random place along the strip
+  (:func:`start_range`), so every particle meets another arrangement. A different
+  topology from the other conditions: compiled once more.
 * **Softer front legs** (§4.6.2, "removing one of the two springs in each of the robot's
   front legs"): the extension spring of the front knees (``LF_cable``, ``RF_cable``, the
   knee springs of :mod:`thesis.physics.models.oncilla`) scaled by ``front_spring_factor``
@@ -21,10 +27,12 @@ from __future__ import annotations
 
 import functools
 import importlib
+import json
 
 import jax.numpy as jnp
 import numpy as np
 
+from thesis import seeding
 from thesis.physics import terrain
 
 # the module (the package re-exports the constructor under the same name)
@@ -41,8 +49,8 @@ def grade_name(grade: float) -> str:
 
 def condition_names(cfg) -> tuple[str, ...]:
     """Target conditions of the ``ch4`` config section, in thesis order: the slopes,
-    then the softer front legs (``"compliant"``)."""
-    return tuple(grade_name(g) for g in cfg["conditions"]["grades"]) + ("compliant",)
+    the softer front legs (``"compliant"``) and the pebbles (``"pebbly"``)."""
+    return tuple(grade_name(g) for g in cfg["conditions"]["grades"]) + ("compliant", "pebbly")
 
 
 def slope_angle(grade: float) -> float:
@@ -95,9 +103,64 @@ def untethered(model):
     return model.replace(tether_slack=jnp.full_like(model.tether_slack, NEVER_TAUT))
 
 
-def condition_model(cfg, name: str):
-    """(Model, State) of condition ``name``: ``"flat"``, a slope (``grade_name``) or
-    ``"compliant"`` (see the module docstring)."""
+#: Fastest walk [m/s] a pebble strip must leave room for (twice the thesis's fastest gait).
+MAX_WALK_SPEED = 1.5
+
+
+def pebble_layout(cfg, root_seed: int) -> tuple[np.ndarray, float]:
+    """Pebble centres (N, 3) [m] and radius [m] of the ``pebbles`` config: N spheres of
+    the configured diameter resting on the floor (centre height = radius), uniformly
+    scattered over x in [0, strip_length], |y| <= strip_width / 2, with N the expected
+    count of the configured coverage (footprint area over strip area, overlaps allowed).
+    One layout per profile, from the stream ``ch4/pebbles/layout`` of the root seed."""
+    pc = cfg["pebbles"]
+    r = 0.5 * float(pc["diameter"])
+    L, W = float(pc["strip_length"]), float(pc["strip_width"])
+    n = int(round(float(pc["coverage"]) * L * W / (np.pi * r * r)))
+    rng = seeding.rng(root_seed, "ch4/pebbles/layout", 0)
+    centres = np.column_stack([rng.uniform(0.0, L, n), rng.uniform(-W / 2, W / 2, n),
+                               np.full(n, r)])
+    return centres, r
+
+
+def start_range(cfg, name: str, duration: float):
+    """(lo, hi) [m] of the random start along x of an evaluation of ``duration`` [s] on
+    condition ``name``, or None where the floor is the same everywhere. The robot starts
+    at least ``start_margin`` into the strip and keeps that margin ahead of a walk at
+    :data:`MAX_WALK_SPEED`."""
+    if name != "pebbly":
+        return None
+    pc = cfg["pebbles"]
+    lo = float(pc["start_margin"])
+    hi = float(pc["strip_length"]) - lo - MAX_WALK_SPEED * float(duration)
+    if hi <= lo:
+        raise ValueError(f"config ch4.pebbles.strip_length = {pc['strip_length']} leaves no "
+                         f"room for random starts of a {duration:g} s evaluation; it must "
+                         f"exceed {2 * lo + MAX_WALK_SPEED * float(duration):g} m")
+    return lo, hi
+
+
+@functools.lru_cache(maxsize=2)
+def _pebbly(key: str, root_seed: int):
+    cfg = json.loads(key)
+    centres, r = pebble_layout(cfg, root_seed)
+    m, t = cfg["model"], cfg["tether"]
+    return O.oncilla(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
+                     tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
+                     tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
+                     field=dict(name="pebbles", centres=centres, radii=r,
+                                k=int(cfg["pebbles"]["k"])))
+
+
+def condition_model(cfg, name: str, root_seed: int | None = None):
+    """(Model, State) of condition ``name``: ``"flat"``, a slope (``grade_name``),
+    ``"compliant"`` or ``"pebbly"`` (which needs the profile's ``root_seed`` for its
+    layout); see the module docstring."""
+    if name == "pebbly":
+        if root_seed is None:
+            raise ValueError("the pebbly condition needs the root seed of its layout")
+        key = json.dumps({k: cfg[k] for k in ("model", "tether", "pebbles")}, sort_keys=True)
+        return _pebbly(key, int(root_seed))
     model, state = base_model(cfg)
     if name == "flat":
         return model, state

@@ -174,14 +174,16 @@ class GenerationRecorder:
 
     Each swarm's particles are evaluated in treadmill order: a particle enters from the
     one before it, the first of a generation from the last of the previous generation and
-    the first of the run from its own gait.
+    the first of the run from its own gait. ``starts`` (optional) gives each generation's
+    evaluations their start positions along x (a pebble strip, :func:`start_sampler`).
     """
 
     FIELDS = ("speed", "score", "fallen", "upright", "exploded")
 
     def __init__(self, model, state, cfg, keys: Sequence[Hashable], *, unit: int,
-                 timing: Timing, label):
+                 timing: Timing, label, starts=None):
         self.model, self.state, self.cfg = model, state, cfg
+        self.starts = starts  # optional (gen, n) -> (n,) start positions along x [m]
         self.keys = list(keys)
         self.unit = unit
         self.timing = timing
@@ -197,8 +199,10 @@ class GenerationRecorder:
             p_from.append(np.concatenate([first, x[:-1]]))
             p_to.append(x)
             owner += [k] * len(x)
+        p_to = np.concatenate(p_to)
+        forward = None if self.starts is None else self.starts(gen, len(p_to))
         terms = evaluate_particles(self.model, self.state, self.cfg, np.concatenate(p_from),
-                                   np.concatenate(p_to), unit=self.unit, timing=self.timing)
+                                   p_to, unit=self.unit, timing=self.timing, forward=forward)
         owner = np.array([self.keys.index(k) for k in owner])
         scores = {}
         for i, k in enumerate(self.keys):
@@ -217,6 +221,22 @@ class GenerationRecorder:
     def stacked(self, key, field: str) -> np.ndarray:
         """(G, n) values of ``field`` for swarm ``key``."""
         return np.stack(self.records[key][field])
+
+
+def start_sampler(cfg, root_seed: int, name: str, duration: float):
+    """``(gen, n) -> (n,)`` start positions along x [m] of the evaluations of condition
+    ``name``, uniform over :func:`thesis.gaits.conditions.start_range` from the stream
+    ``ch4/<name>/start`` (one draw per generation, in order), or None where the floor is
+    the same everywhere. Every evaluation thus meets its own stretch of pebbles, as each
+    particle met another arrangement on the treadmill (§4.6.3)."""
+    rng_range = C.start_range(cfg, name, duration)
+    if rng_range is None:
+        return None
+    lo, hi = rng_range
+
+    def starts(gen: int, n: int) -> np.ndarray:
+        return seeding.rng(root_seed, f"ch4/{name}/start", int(gen)).uniform(lo, hi, n)
+    return starts
 
 
 def swarm_options(cfg) -> dict:
@@ -242,7 +262,8 @@ def reeval_headings(cfg, root_seed: int, name: str, seed: int, m: int) -> np.nda
                                                              (m, int(rc["repeats"])))
 
 
-def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Timing) -> dict:
+def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Timing,
+               forward=None) -> dict:
     """Re-evaluate particles from standstill, ``reeval.repeats`` times each.
 
     Each repeat starts standing in the particle's own pose (``p_from`` = ``p_to``) with
@@ -251,6 +272,7 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
     Args:
         particles: (m, 12) parameter vectors.
         headings: (m, repeats) initial headings [rad] (:func:`reeval_headings`).
+        forward: optional (m, repeats) start positions along x [m] (a pebble strip).
 
     Returns:
         dict of (m, repeats) ``speed``, ``score``, ``fallen``.
@@ -258,8 +280,9 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
     headings = np.asarray(headings, np.float64)
     reps = headings.shape[1]
     p = np.repeat(np.asarray(particles, np.float64), reps, axis=0)
+    fw = None if forward is None else np.asarray(forward, np.float64).reshape(-1)
     terms = evaluate_particles(model, state, cfg, p, p, unit=unit, timing=timing,
-                               heading=headings.reshape(-1))
+                               heading=headings.reshape(-1), forward=fw)
     return {k: np.asarray(terms[k], np.float64).reshape(-1, reps)
             for k in ("speed", "score", "fallen")}
 
@@ -389,7 +412,8 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
     reps = int(cfg["reeval"]["repeats"])
     re = {k: np.zeros(shape + (2, reps)) for k in ("speed", "score", "fallen")}
     for ci, name in enumerate(names):
-        model, state = C.condition_model(cfg, name)
+        model, state = C.condition_model(cfg, name, ctx.root_seed)
+        starts = start_sampler(cfg, ctx.root_seed, name, protocol_times(cfg)[2])
         swarms = {}
         for s in seeds:
             sp, sf = src["position"].sel(seed=s).values, src["score"].sel(seed=s).values
@@ -403,7 +427,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
         keys = [(s, t) for t in (1, 0) for s in seeds]  # one batch per arm
         rec = GenerationRecorder(model, state, cfg, keys, unit=unit, timing=timing,
                                  label=lambda k, n=name: (f"{ctx.key}:{n}/transfer={k[1]}",
-                                                          k[0]))
+                                                          k[0]), starts=starts)
         for (s, t) in keys:
             vel0[seeds.index(s), ci, t] = swarms[(s, t)].v
         hist = transfer.run_lockstep(swarms, _logged(rec, ctx, name), G,
@@ -421,8 +445,10 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
                 todo.append((i, t, r))
             heads.append(reeval_headings(cfg, ctx.root_seed, f"ch4/{name}/reeval/transfer={t}",
                                          s, 2))
+        heads = np.concatenate(heads)
+        fw = None if starts is None else starts(G, heads.size).reshape(heads.shape)
         out = reevaluate(model, state, cfg, np.stack([best_pos[i, ci, t, r] for i, t, r in todo]),
-                         np.concatenate(heads), unit=unit, timing=timing)
+                         heads, unit=unit, timing=timing, forward=fw)
         for j, (i, t, r) in enumerate(todo):
             for k in re:
                 re[k][i, ci, t, r] = out[k][j]
@@ -481,6 +507,20 @@ def transfer_slopes(ctx) -> xr.Dataset:
 def transfer_compliant(ctx) -> xr.Dataset:
     """§4.6.2: transfer from the normal robot to one with softer front legs."""
     return transfer_conditions(ctx, ["compliant"])
+
+
+def transfer_pebbly(ctx) -> xr.Dataset:
+    """§4.6.3: transfer from flat ground to a floor covered in ~1 cm pebbles (the sphere
+    field of :func:`thesis.gaits.conditions.pebble_layout`; each evaluation starts at its
+    own random place on the strip)."""
+    ds = transfer_conditions(ctx, ["pebbly"])
+    centres, r = C.pebble_layout(ctx.config, ctx.root_seed)
+    pc = ctx.config["pebbles"]
+    ds.attrs.update(pebble_count=int(len(centres)), pebble_diameter=2 * r,
+                    pebble_coverage=float(pc["coverage"]),
+                    pebble_strip_length=float(pc["strip_length"]),
+                    pebble_strip_width=float(pc["strip_width"]), pebble_k=int(pc["k"]))
+    return ds
 
 
 def treadmill_predecessors(positions: np.ndarray) -> np.ndarray:
