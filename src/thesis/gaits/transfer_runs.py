@@ -2,11 +2,11 @@
 flat-ground PSO and the transfer runs of §4.6.
 
 ``flat`` optimises the spline trot (Tab. 4.1) on flat ground from a random swarm, per
-seed. ``transfer_slopes`` and ``transfer_compliant`` (input ``flat``) optimise it again
-under each target condition of :mod:`thesis.gaits.conditions`, twice per seed: with
-transfer (``transfer`` = 1: the flat run's best particles over all generations with a
-small random impulse, §4.4, :func:`thesis.optim.transfer.transfer_init`) and without
-(``transfer`` = 0: a fresh random swarm). Every evaluated particle is kept with its
+seed. ``transfer_slopes``, ``transfer_compliant`` and ``transfer_pebbly`` (input ``flat``)
+optimise it again under each target condition of :mod:`thesis.gaits.conditions`, twice
+per seed: with transfer (``transfer`` = 1: the flat run's best particles over all
+generations with a small random impulse, §4.4, :func:`thesis.optim.transfer.transfer_init`)
+and without (``transfer`` = 0: a fresh random swarm). Every evaluated particle is kept with its
 speed, score and whether it fell; each run's best particles are re-evaluated.
 
 Protocol of one evaluation (§4.5-4.6; sizes from the ``ch4`` config section): the robot
