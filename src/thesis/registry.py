@@ -25,6 +25,22 @@ EXPERIMENTS: dict[str, str] = {
     "ch3/robustness": "thesis.gaits.experiments:robustness",
     "ch3/table3_2": "thesis.gaits.experiments:table3_2",
     "ch3/fig3_5": "thesis.gaits.experiments:fig3_5",
+    # ch4: transfer learning of gaits with PSO
+    "ch4/flat": "thesis.gaits.transfer_runs:flat",
+    "ch4/transfer_slopes": "thesis.gaits.transfer_runs:transfer_slopes",
+    "ch4/transfer_compliant": "thesis.gaits.transfer_runs:transfer_compliant",
+    "ch4/transfer_pebbly": "thesis.gaits.transfer_runs:transfer_pebbly",
+    "ch4/tether": "thesis.gaits.transfer_runs:tether",
+    "ch4/table4_2": "thesis.gaits.transfer_artifacts:table4_2",
+    "ch4/table4_3": "thesis.gaits.transfer_artifacts:table4_3",
+    "ch4/table4_4": "thesis.gaits.transfer_artifacts:table4_4",
+    "ch4/fig4_3": "thesis.gaits.transfer_artifacts:fig4_3",
+    "ch4/fig4_5": "thesis.gaits.transfer_artifacts:fig4_5",
+    "ch4/fig4_6": "thesis.gaits.transfer_artifacts:fig4_6",
+    "ch4/fig4_7": "thesis.gaits.transfer_artifacts:fig4_7",
+    "ch4/fig4_8": "thesis.gaits.transfer_artifacts:fig4_8",
+    "ch4/fig4_9": "thesis.gaits.transfer_artifacts:fig4_9",
+    "ch4/fig4_10": "thesis.gaits.transfer_artifacts:fig4_10",
     # ch6: embodied gait (ELM + delay buffer + RLS) on the Oncilla
     "ch6/teacher": "thesis.embodied.experiments:teacher",
     "ch6/trot": "thesis.embodied.experiments:trot",
@@ -51,6 +67,8 @@ EXPERIMENTS: dict[str, str] = {
     "ch7/pendulum_pixels": "thesis.diffphys.pendulum:pendulum",
     "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
     "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
+    # the engine's own benchmarks (results/<profile>/physics/)
+    "physics/sphere_field": "thesis.physics.bench:sphere_field",
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -58,6 +76,7 @@ BENCHMARKS: dict[str, str] = {
     "chirpz": "ch2/chirpz_scaling",
     "physics": "ch7/table7_1",
     "mjx": "ch7/table7_1_peers",
+    "field": "physics/sphere_field",
 }
 
 
@@ -73,8 +92,8 @@ _CH6_SWEEPS = {"trot": ("ch6.trot", "ch6.power_off"), "walk": ("ch6.walk",),
 #: chapter's section (the default). Provenance records exactly these, Snakemake reruns
 #: an experiment only when they change, and the experiment's ``ctx.config`` holds only
 #: these keys of its chapter (reading an undeclared key fails instead of going stale).
-#: The engine's experiments read no ``physics`` key: that section holds the Tab. 7.1
-#: benchmark only.
+#: The engine's experiments read no ``physics`` key: that section holds the engine's
+#: benchmarks only (Tab. 7.1, the sphere field).
 READS: dict[str, tuple[str, ...]] = {
     "ch2/cluttered_mnist": ("ch2.data",),
     "ch2/table2_2_ffn_spn": ("ch2.seeds", "ch2.grid", "ch2.train", "ch2.chirpz_output",
@@ -83,6 +102,28 @@ READS: dict[str, tuple[str, ...]] = {
                              "ch2.rnn_spn"),
     "ch2/table2_2": ("ch2.seeds", "ch2.train", "ch2.ffn_spn", "ch2.rnn_spn"),
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
+    # ch4: a simulation reruns only when its protocol, swarm or condition changes, not
+    # when a table or figure setting does
+    "ch4/flat": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",
+                 "ch4.reeval"),
+    "ch4/transfer_slopes": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",
+                            "ch4.reeval", "ch4.transfer", "ch4.conditions.grades"),
+    "ch4/transfer_compliant": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol",
+                               "ch4.pso", "ch4.reeval", "ch4.transfer",
+                               "ch4.conditions.front_spring_factor"),
+    "ch4/transfer_pebbly": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",
+                            "ch4.reeval", "ch4.transfer", "ch4.pebbles"),
+    "ch4/tether": ("ch4.model", "ch4.tether", "ch4.protocol"),
+    "ch4/table4_2": ("ch4.conditions.grades",),
+    "ch4/table4_3": ("ch4.conditions.front_spring_factor",),
+    "ch4/table4_4": ("ch4.pebbles",),
+    "ch4/fig4_3": ("ch4.fig4_3",),
+    "ch4/fig4_5": ("ch4.conditions.grades",),
+    "ch4/fig4_6": ("ch4.conditions.grades", "ch4.fig4_6"),
+    "ch4/fig4_7": (),
+    "ch4/fig4_8": (),
+    "ch4/fig4_9": ("ch4.conditions.grades",),
+    "ch4/fig4_10": (),
     **{f"ch6/{name}": _CH6_RUN + extra for name, extra in _CH6_SWEEPS.items()},
     "ch6/teacher": ("ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
                     "ch6.teacher", "ch6.walk"),
@@ -98,6 +139,7 @@ READS: dict[str, tuple[str, ...]] = {
     "ch7/pendulum_pixels": ("ch7.pendulum",),
     "ch7/table7_1": ("physics.bench",),
     "ch7/table7_1_peers": ("physics.bench",),
+    "physics/sphere_field": ("physics.sphere_field",),
 }
 
 

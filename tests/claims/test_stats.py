@@ -122,3 +122,105 @@ def test_resamples_context_changes_interval_and_restores():
     with pytest.raises(ValueError):
         with stats.resamples(10):
             pass
+
+
+# ---------------------------------------------------------------- rule 9 (§4.6 runs)
+
+def _runs(shift, seeds=5, gens=12, n=20, rng=0):
+    """Synthetic (seed, generation, particle) scores: run A shifted by ``shift`` sd."""
+    r = np.random.default_rng(rng)
+    b = r.normal(0.0, 1.0, (seeds, gens, n))
+    a = r.normal(0.0, 1.0, (seeds, gens, n)) + shift
+    return a, b
+
+
+def test_run_statistics_match_scipy():
+    from scipy import stats as sps
+
+    a, b = _runs(0.4, seeds=3, gens=4, n=6, rng=1)
+    st = stats.run_statistics(a, b)
+    for s in range(3):
+        p1 = [sps.mannwhitneyu(x, y, alternative="greater").pvalue for x, y in zip(a[s], b[s])]
+        p2 = [sps.mannwhitneyu(x, y).pvalue for x, y in zip(a[s], b[s])]
+        assert st["p_greater"][s] == pytest.approx(sps.combine_pvalues(p1).pvalue, rel=1e-12)
+        assert st["p_two_sided"][s] == pytest.approx(sps.combine_pvalues(p2).pvalue, rel=1e-12)
+        a12 = [np.mean(x[:, None] > y[None]) + 0.5 * np.mean(x[:, None] == y[None])
+               for x, y in zip(a[s], b[s])]
+        assert st["effect"][s] == pytest.approx(np.mean(a12) - 0.5, abs=1e-12)
+    with pytest.raises(ValueError):
+        stats.run_statistics(a[:, :3], b)
+
+
+def test_rule9_transfer_helps():
+    a, b = _runs(1.0)
+    v = stats.decide_runs_over_generations(a, b, bound=0.001, claim="better")
+    assert v.status == "reproduced", v.detail
+    assert v.measured["n_seeds_p_below_bound"] == 5.0
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="not_better").status == "not_reproduced"
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="no_difference").status == "not_reproduced"
+
+
+def test_rule9_transfer_does_not_help():
+    a, b = _runs(0.0, rng=2)
+    v = stats.decide_runs_over_generations(a, b, bound=0.001, claim="better")
+    assert v.status == "not_reproduced", v.detail  # no seed reaches p < 0.001
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="not_better").status == "reproduced"
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="no_difference").status == "reproduced"
+    assert stats.decide_not_worse(a, b).status == "reproduced"
+
+
+def test_rule9_transfer_hurts():
+    a, b = _runs(-0.8, rng=3)
+    v = stats.decide_runs_over_generations(a, b, bound=0.05, claim="better")
+    assert v.status == "not_reproduced" and "outperforms" in v.detail
+    assert stats.decide_not_worse(a, b).status == "not_reproduced"
+    # not better, as claimed for the pebbles: a harmful transfer is "not better"
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="not_better").status == "reproduced"
+
+
+def test_rule9_direction_without_the_thesis_significance():
+    a, b = _runs(0.12, rng=4)
+    loose = stats.decide_runs_over_generations(a, b, bound=0.5, claim="better")
+    strict = stats.decide_runs_over_generations(a, b, bound=1e-9, claim="better")
+    assert loose.status == "reproduced", loose.detail
+    assert strict.status == "not_reproduced" and "no seed" in strict.detail
+
+
+def test_rule9_few_seeds_and_bad_claim():
+    a, b = _runs(1.0, seeds=2)
+    v = stats.decide_runs_over_generations(a, b, bound=0.001, claim="better")
+    assert v.status == "inconclusive" and "at least 3" in v.detail
+    with pytest.raises(ValueError):
+        stats.decide_runs_over_generations(a, b, bound=0.001, claim="faster")
+
+
+def test_rule9_mixed_seeds_are_inconclusive():
+    a, b = _runs(0.0, seeds=6, rng=5)
+    a[:3] += 1.0  # helps on half the seeds only
+    v = stats.decide_runs_over_generations(a, b, bound=0.001, claim="better")
+    assert v.status == "inconclusive", v.detail
+
+
+def test_vargha_delaney_and_majority():
+    assert stats.vargha_delaney([2, 3], [1, 1]) == 1.0
+    assert stats.vargha_delaney([1, 1], [1, 1]) == 0.5
+    assert np.isnan(stats.vargha_delaney([], [1.0]))
+    assert stats.decide_majority([1, 1, 0, 1]).status == "reproduced"
+    assert stats.decide_majority([1, 0, 0, 0]).status == "not_reproduced"
+    assert stats.decide_majority([1, 0, 1, 0]).status == "inconclusive"
+    assert stats.decide_majority([1, 1]).status == "inconclusive"
+
+
+def test_rule9_tiny_consistent_advantage_is_not_significantly_better():
+    a, b = _runs(0.0, rng=6)
+    a[:, 0] += 0.4  # a head start in the first generation only, lost afterwards
+    v = stats.decide_runs_over_generations(a, b, bound=0.05, claim="not_better")
+    assert v.measured["effect_ci_high"] < stats.SMALL_A_EFFECT
+    assert v.status == "reproduced", v.detail
+    assert stats.decide_runs_over_generations(a, b, bound=0.05,
+                                              claim="no_difference").status != "not_reproduced"

@@ -8,7 +8,7 @@ experiments exist.
 
 from __future__ import annotations
 
-from thesis.claims import ch2, ch3, ch5, ch6, ch7
+from thesis.claims import ch2, ch3, ch4, ch5, ch6, ch7
 from thesis.claims.types import Claim
 
 CLAIMS: tuple[Claim, ...] = (
@@ -49,18 +49,24 @@ CLAIMS: tuple[Claim, ...] = (
         quote="Although an important footnote, in one of the cases the warm start did not make "
               "a significant difference, namely when transfer learning from a flat terrain to a "
               "rocky one.",
-        summary="Transfer significantly better on slopes and with compliant legs, not "
-                "significantly different on pebbles.",
+        summary="Transfer significantly better (p < 0.05) on both slopes and with compliant "
+                "legs, and no significant difference either way on pebbles (two-sided p > "
+                "0.05) (rule 9 for each; all must hold).",
         paper_keys=("fig4_5/grade=9/p_value_upper_bound", "fig4_5/grade=18/p_value_upper_bound",
                     "fig4_7/p_value_upper_bound", "fig4_8/p_value_lower_bound"),
-        requires=("ch4/fig4_5", "ch4/fig4_7", "ch4/fig4_8"),
+        requires=(ch4.SLOPES, ch4.SOFT, ch4.PEBBLES),
+        reads=tuple(f"{k}:score" for k in (ch4.SLOPES, ch4.SOFT, ch4.PEBBLES)),
+        fn=ch4.better_except_rocky,
     ),
     Claim(
         id="ch8.ch4_reduced_exploration", chapter=8, section="§8.1",
         quote="We found that the main aspect which made these warm starts perform better was "
               "the reduced amount of exploration in the parameter space.",
-        summary="Search-space size per generation is smaller with warm starts.",
-        paper_keys=("fig4_10/search_space_ratio",), requires=("ch4/fig4_10",),
+        summary="On the 18 % grade the warm-started swarm explores a smaller search space "
+                "while outperforming the random swarm (as ch4.speedup_from_reduced_search_space).",
+        paper_keys=("fig4_10/search_space_ratio",), requires=(ch4.F410, ch4.SLOPES),
+        reads=(f"{ch4.F410}:search_space_size", f"{ch4.SLOPES}:score"),
+        fn=ch4.reduced_search_space,
     ),
     Claim(
         id="ch8.ch5_memory_important", chapter=8, section="§8.1",

@@ -22,6 +22,31 @@ Rules (applied uniformly by the decision helpers below):
    factor :data:`BUDGET_FACTOR` (2) over the thesis's count (:func:`decide_within_budget`).
 8. **Timings** are measurements, not seeded outcomes: :func:`decide_measurement` compares
    the median over repeats with the bound, without an interval.
+9. **"Run A's particles outperform run B's over all generations"** (§4.6,
+   :func:`decide_runs_over_generations`). The thesis ran one optimisation per arm and
+   compared them with a Wilcoxon rank-sum test per generation, the p-values combined
+   with Fisher's method. With several seeds, each seed s gives that statistic, ``p_s``
+   (one-sided "A greater", or two-sided), and an effect ``e_s``: the mean over
+   generations of the Vargha-Delaney A (the probability that a particle of A outscores
+   one of B, ties half) minus 0.5. Rule 4 on the ``e_s`` (against 0) is the method-level
+   evidence E; ``k`` counts the seeds with ``p_s`` below the thesis's bound.
+
+   - *"A significantly better (p < bound)"*: reproduced when E is reproduced and
+     k > n/2; not_reproduced when E says B is better, or when k = 0 (no run reaches the
+     thesis's significance); inconclusive otherwise.
+   - *"A not significantly better (p > bound)"*: reproduced when n - k > n/2 and either E
+     is not reproduced or the interval of the effect stays below a small effect
+     (:data:`SMALL_A_EFFECT`: pooling seeds may detect an advantage too small to matter,
+     which no single run would call significant); not_reproduced when E is reproduced and
+     k > n/2; inconclusive otherwise.
+   - *"no significant difference"* (two-sided p): reproduced when n - k > n/2 and either E
+     is inconclusive or the interval of the effect lies within ±:data:`SMALL_A_EFFECT`;
+     not_reproduced when E is decisive (either way) and k > n/2; inconclusive otherwise.
+   - *"A does not harm"* (:func:`decide_not_worse`): rule 6 on the ``e_s`` with the bound
+     -:data:`SMALL_A_EFFECT` (non-inferiority by less than a small effect).
+10. **"It happens in most runs"** (:func:`decide_majority`): reproduced when the event
+    occurs in more than half of the seeds, not_reproduced when in fewer than half,
+    inconclusive at exactly half (and below :data:`MIN_SEEDS` seeds).
 """
 
 from __future__ import annotations
@@ -45,6 +70,11 @@ BOOTSTRAP_SEED = 20180101
 ALPHA = 0.05
 PUBLISHED_TOLERANCE = 0.25
 BUDGET_FACTOR = 2.0
+#: A - 0.5 of a small effect in Vargha and Delaney's A (2000: A = 0.56 small, 0.64
+#: medium, 0.71 large): rule 9's non-inferiority margin.
+SMALL_A_EFFECT = 0.06
+#: The claims rule 9 decides.
+RUN_CLAIMS = ("better", "not_better", "no_difference")
 
 _RESAMPLES: contextvars.ContextVar[int] = contextvars.ContextVar("n_resamples",
                                                                 default=N_RESAMPLES)
@@ -363,3 +393,139 @@ def combine(parts: dict[str, Verdict], *, statistic: str = "") -> Verdict:
     stat = statistic or "all of: " + "; ".join(
         f"{name}: {v.statistic}" for name, v in parts.items())
     return Verdict(status, measured, stat, detail)
+
+
+def vargha_delaney(a, b) -> float:
+    """Vargha-Delaney A of independent samples ``a``, ``b``: P(a > b) + P(a = b)/2, the
+    Mann-Whitney U of ``a`` over n_a n_b (NaN dropped; NaN if a sample is empty)."""
+    a, b = _finite(a), _finite(b)
+    if a.size == 0 or b.size == 0:
+        return float("nan")
+    return float(sps.mannwhitneyu(a, b).statistic / (a.size * b.size))
+
+
+def run_statistics(a, b) -> dict[str, np.ndarray]:
+    """Per-seed statistics of rule 9 for runs ``a`` and ``b``.
+
+    Args:
+        a, b: (S, G, N) scores of every particle of run A and run B, per seed (paired by
+            seed) and generation.
+
+    Returns:
+        dict of (S,) arrays: ``p_greater`` (Fisher-combined per-generation one-sided
+        rank-sum p, A greater), ``p_two_sided`` (the same, two-sided), ``effect`` (mean
+        over generations of A12 - 0.5) and (S, G) ``a12`` (Vargha-Delaney A per
+        generation).
+    """
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    if a.ndim != 3 or b.ndim != 3 or a.shape[:2] != b.shape[:2]:
+        raise ValueError(f"runs must be (seed, generation, particle) with equal seeds and "
+                         f"generations, got {a.shape} and {b.shape}")
+    a12 = np.array([[vargha_delaney(x, y) for x, y in zip(ra, rb)] for ra, rb in zip(a, b)])
+    p1 = np.array([fisher_combine([mann_whitney(x, y, "greater") for x, y in zip(ra, rb)])
+                   for ra, rb in zip(a, b)])
+    p2 = np.array([fisher_combine([mann_whitney(x, y, "two-sided") for x, y in zip(ra, rb)])
+                   for ra, rb in zip(a, b)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        effect = np.nanmean(a12, axis=1) - 0.5
+    return dict(p_greater=p1, p_two_sided=p2, effect=effect, a12=a12)
+
+
+def decide_runs_over_generations(a, b, *, bound: float, claim: str, label_a: str = "a",
+                                 label_b: str = "b") -> Verdict:
+    """Decide rule 9 for runs ``a`` and ``b`` ((S, G, N) scores, see :func:`run_statistics`).
+
+    ``claim`` is ``"better"`` (A significantly better, p < ``bound``), ``"not_better"``
+    (A not significantly better, p > ``bound``) or ``"no_difference"`` (two-sided p >
+    ``bound``). The measured numbers list every seed's p and effect.
+    """
+    if claim not in RUN_CLAIMS:
+        raise ValueError(f"claim must be one of {RUN_CLAIMS}, got {claim!r}")
+    st = run_statistics(a, b)
+    p = st["p_two_sided"] if claim == "no_difference" else st["p_greater"]
+    ok = np.isfinite(p) & np.isfinite(st["effect"])
+    p, e = p[ok], st["effect"][ok]
+    n = int(p.size)
+    k = int((p < bound).sum())
+    eff = decide_beats(e, np.zeros_like(e), higher_is_better=True,
+                       label_a=f"A12_{label_a}_vs_{label_b}", label_b="chance")
+    sided = "two-sided" if claim == "no_difference" else f"one-sided ({label_a} greater)"
+    statistic = (f"per seed: Fisher-combined per-generation Wilcoxon rank-sum p ({sided}) "
+                 f"and the mean over generations of the Vargha-Delaney A of {label_a} vs "
+                 f"{label_b} minus 0.5; rule 4 on that effect over seeds, and the number of "
+                 f"seeds with p < {bound:g}")
+    measured = {"n_seeds": n, "n_seeds_p_below_bound": k, "bound": bound,
+                "median_p": float(np.median(p)) if n else np.nan,
+                "effect_mean": eff.measured.get("advantage_mean", np.nan),
+                "effect_ci_low": eff.measured.get("advantage_ci_low", np.nan),
+                "effect_ci_high": eff.measured.get("advantage_ci_high", np.nan),
+                **{f"p_seed{i}": float(v) for i, v in enumerate(p)},
+                **{f"effect_seed{i}": float(v) for i, v in enumerate(e)}}
+    few = _too_few(n, measured, statistic)
+    if few:
+        return few
+    majority_sig, majority_not = 2 * k > n, 2 * (n - k) > n
+    where = f"{k} of {n} seeds have p < {bound:g}"
+    E = eff.status
+    lo, hi = measured["effect_ci_low"], measured["effect_ci_high"]
+    below_small = bool(np.isfinite(hi) and hi < SMALL_A_EFFECT)
+    within_small = below_small and bool(np.isfinite(lo) and lo > -SMALL_A_EFFECT)
+    if claim == "better":
+        if E == "not_reproduced":
+            return Verdict("not_reproduced", measured, statistic,
+                           f"{label_b} outperforms {label_a} over seeds ({eff.detail}); {where}")
+        if k == 0:
+            return Verdict("not_reproduced", measured, statistic,
+                           f"no seed reaches the thesis's p < {bound:g} (effect: {E})")
+        if E == "reproduced" and majority_sig:
+            return Verdict("reproduced", measured, statistic,
+                           f"{label_a} outperforms {label_b} over seeds; {where}")
+        return Verdict("inconclusive", measured, statistic, f"effect: {E}; {where}")
+    if claim == "not_better":
+        if majority_not and (E != "reproduced" or below_small):
+            why = (f"no consistent advantage of {label_a} (effect: {E})" if E != "reproduced"
+                   else f"{label_a}'s advantage over seeds is below a small effect "
+                        f"(A - 0.5 < {SMALL_A_EFFECT:g})")
+            return Verdict("reproduced", measured, statistic, f"{why}; {where}")
+        if E == "reproduced" and majority_sig:
+            return Verdict("not_reproduced", measured, statistic,
+                           f"{label_a} significantly outperforms {label_b}; {where}")
+        return Verdict("inconclusive", measured, statistic, f"effect: {E}; {where}")
+    if majority_not and (E == "inconclusive" or within_small):
+        why = ("no consistent difference (effect interval includes 0)" if E == "inconclusive"
+               else f"any difference is below a small effect (|A - 0.5| < {SMALL_A_EFFECT:g})")
+        return Verdict("reproduced", measured, statistic, f"{why}; {where}")
+    if E != "inconclusive" and majority_sig:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"the runs differ consistently ({eff.detail}); {where}")
+    return Verdict("inconclusive", measured, statistic, f"effect: {E}; {where}")
+
+
+def decide_not_worse(a, b, *, margin: float = SMALL_A_EFFECT, label_a: str = "a",
+                     label_b: str = "b") -> Verdict:
+    """Rule 9, "A does not harm": rule 6 on the per-seed effect (mean A12 - 0.5 of runs
+    ``a`` vs ``b``, (S, G, N) scores) above ``-margin``."""
+    e = run_statistics(a, b)["effect"]
+    v = decide_threshold(e, bound=-margin, below=False, label=f"A12_{label_a}_vs_{label_b}_minus_half")
+    statistic = (f"per seed: mean over generations of the Vargha-Delaney A of {label_a} vs "
+                 f"{label_b} minus 0.5; " + v.statistic + f" (non-inferiority margin "
+                 f"{margin:g}, a small effect)")
+    return Verdict(v.status, v.measured, statistic, v.detail)
+
+
+def decide_majority(flags, *, label: str = "event") -> Verdict:
+    """Rule 10: does the event (``flags``, one bool per seed; NaN dropped) occur in most seeds?"""
+    x = np.asarray(flags, float).ravel()
+    x = x[np.isfinite(x)]
+    n, k = int(x.size), int((x > 0.5).sum())
+    statistic = f"number of seeds where {label}, against half of the seeds"
+    measured = {"n_seeds": n, f"n_seeds_{label}": k}
+    few = _too_few(n, measured, statistic)
+    if few:
+        return few
+    if 2 * k > n:
+        return Verdict("reproduced", measured, statistic, f"{label} in {k} of {n} seeds")
+    if 2 * k < n:
+        return Verdict("not_reproduced", measured, statistic, f"{label} in only {k} of {n} seeds")
+    return Verdict("inconclusive", measured, statistic, f"{label} in exactly half the seeds")

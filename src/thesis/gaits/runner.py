@@ -48,19 +48,34 @@ def command_time(t):
     return jnp.floor(t / COMMAND_PERIOD + 1e-3) * COMMAND_PERIOD
 
 
-def batch_states(state, n: int, lateral=None):
+def batch_states(state, n: int, lateral=None, heading=None, forward=None):
     """Stack ``n`` copies of ``state`` (leading batch axis); ``lateral`` (n,) shifts each
-    robot sideways [m] (used by the tracking experiment)."""
+    robot sideways [m] (used by the tracking experiment); ``heading`` (n,) turns each
+    robot about the vertical axis through the world origin [rad] (the robot standing at
+    rest, so only positions and orientations change; used for repeated evaluations);
+    ``forward`` (n,) then shifts each robot along x [m] (a start further along a strip of
+    pebbles)."""
     s = jax.tree.map(lambda x: jnp.broadcast_to(x, (n,) + x.shape), state)
     if lateral is not None:
         shift = jnp.zeros((n, 1, 3), s.pos.dtype).at[:, 0, 1].set(jnp.asarray(lateral, s.pos.dtype))
+        s = s.replace(pos=s.pos + shift)
+    if heading is not None:
+        h = jnp.asarray(heading, s.pos.dtype)
+        c, sn, z, o = jnp.cos(h), jnp.sin(h), jnp.zeros_like(h), jnp.ones_like(h)
+        rz = jnp.stack([jnp.stack([c, -sn, z], -1), jnp.stack([sn, c, z], -1),
+                        jnp.stack([z, z, o], -1)], -2)  # (n, 3, 3)
+        s = s.replace(pos=jnp.einsum("nij,nbj->nbi", rz, s.pos),
+                      rot=jnp.einsum("nij,nbjk->nbik", rz, s.rot))
+    if forward is not None:
+        shift = jnp.zeros((n, 1, 3), s.pos.dtype).at[:, 0, 0].set(jnp.asarray(forward, s.pos.dtype))
         s = s.replace(pos=s.pos + shift)
     return s
 
 
 @functools.lru_cache(maxsize=32)
-def _compiled(command_fn, n_steps: int, stride: int):
-    """jit of a batched rollout for a given command function and length (cached)."""
+def _compiled(command_fn, n_steps: int, stride: int, chunk=1):
+    """jit of a batched rollout for a given command function, length and chunking of
+    the batch (``thesis.physics.batched_rollout``'s ``chunk``) (cached)."""
 
     def controller(_, sens, memory, t):
         cmd = command_fn(memory, command_time(t), sens)
@@ -68,7 +83,8 @@ def _compiled(command_fn, n_steps: int, stride: int):
 
     def run(model, states0, memory):
         _, traj = batched_rollout(model, states0, controller, None, n_steps, memory0=memory,
-                                  batch_memory=True, record=("body_pos", "body_rot"))
+                                  batch_memory=True, record=("body_pos", "body_rot"),
+                                  chunk=chunk)
         pos = traj["body_pos"][:, stride - 1::stride]
         rot = traj["body_rot"][:, stride - 1::stride]
         return pos, rot
@@ -76,7 +92,8 @@ def _compiled(command_fn, n_steps: int, stride: int):
     return jax.jit(run)
 
 
-def simulate(model, state0, command_fn, memory, duration: float, lateral=None):
+def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
+             heading=None, chunk=1, forward=None):
     """Simulate a batch of robots under ``command_fn``.
 
     Args:
@@ -86,6 +103,11 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None):
         memory: pytree of per-robot command parameters, leading axis B.
         duration: simulated time [s].
         lateral: optional (B,) initial sideways offsets [m].
+        heading: optional (B,) initial headings [rad] (see :func:`batch_states`).
+        forward: optional (B,) initial shifts along x [m] (see :func:`batch_states`).
+        chunk: robots simulated together per device (``batched_rollout``); ``None``
+            vmaps the whole batch, faster for large batches; the default 1 runs robots
+            one after the other (chapter 3's results are bound to it bit for bit).
 
     Returns:
         dict with ``pos`` (B, K, n_body, 3) and ``rot`` (B, K, n_body, 3, 3) body poses
@@ -95,9 +117,9 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None):
     batch = jax.tree.leaves(memory)[0].shape[0]
     stride = int(round(COMMAND_PERIOD / float(model.dt)))
     n_cmd = int(round(duration / COMMAND_PERIOD))
-    fn = _compiled(command_fn, n_cmd * stride, stride)
+    fn = _compiled(command_fn, n_cmd * stride, stride, chunk)
     t0 = time.perf_counter()
-    pos, rot = fn(model, batch_states(state0, batch, lateral), memory)
+    pos, rot = fn(model, batch_states(state0, batch, lateral, heading, forward), memory)
     pos = np.asarray(pos)
     wall = time.perf_counter() - t0
     rot = np.asarray(rot)
@@ -233,6 +255,52 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
         out["sigma_x"][i], out["sigma_y"][i] = sx, sy
         out["fitness"][i] = fit if ok else -np.inf
     return dict(out, fallen=fallen, exploded=bad)
+
+
+def speed_terms(model, sim, t_start, fall_height: float, t_end=None):
+    """Speed-only fitness terms of §4.6 over each robot's window of a :func:`simulate` result.
+
+    "The goal of our optimization is to maximize the average robot speed, measured over a
+    period of four seconds" (§4.6): the trunk's forward displacement over the window
+    divided by its length. No camera terms (unlike eq. 3.3, :func:`fitness_terms`).
+
+    Args:
+        sim: a :func:`simulate` result (poses every command period).
+        t_start, t_end: scalars or (B,) window bounds [s] (``t_end`` None: the end).
+        fall_height: trunk-centre height [m] below which the robot counts as fallen; a
+            trunk tilted more than 60 degrees (up-vector z < 0.5) counts too.
+
+    Returns:
+        dict of (B,) arrays: ``distance`` [m] (trunk x over the window), ``speed`` [m/s],
+        ``fallen`` (bool: fell inside the window, or unphysical), ``upright`` [1] (the
+        fraction of the window before the first fall; 1 if it never fell, 0 if it fell
+        before the window or went unphysical), ``exploded`` (bool, :func:`exploded`) and
+        ``finite`` (bool: every recorded pose of the robot is finite).
+    """
+    trunk = O.trunk_index(model)
+    pos, rot, t = sim["pos"], sim["rot"], sim["t"]
+    B = pos.shape[0]
+    t0 = np.broadcast_to(np.asarray(t_start, np.float64), (B,))
+    t1 = np.broadcast_to(np.asarray(t[-1] if t_end is None else t_end, np.float64), (B,))
+    w = (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)  # (B, K)
+    first = np.argmax(w, axis=1)
+    last = w.shape[1] - 1 - np.argmax(w[:, ::-1], axis=1)
+    start = np.maximum(first - 1, 0)  # the pose at the window's start (a sample at t_start)
+    x = pos[:, :, trunk, 0]
+    rows = np.arange(B)
+    distance = x[rows, last] - x[rows, start]
+    span = t[last] - np.where(first > 0, t[start], t0)
+    with np.errstate(invalid="ignore"):
+        down = ((pos[:, :, trunk, 2] < fall_height) | (rot[:, :, trunk, 2, 2] < 0.5)) & w
+    bad = exploded(model, sim)
+    finite = np.isfinite(pos).all(axis=(1, 2, 3)) & np.isfinite(rot).all(axis=(1, 2, 3, 4))
+    fell = down.any(axis=1)
+    t_fall = t[np.argmax(down, axis=1)]
+    upright = np.where(fell, (t_fall - t0) / (t[last] - t0), 1.0)
+    upright = np.where(bad, 0.0, np.clip(upright, 0.0, 1.0))
+    distance = np.where(bad, np.nan, distance)
+    return dict(distance=distance, speed=distance / span, fallen=fell | bad, upright=upright,
+                exploded=bad, finite=finite)
 
 
 #: Fitness of a robot that fell at the start of its window (eq. 3.3 of any robot that

@@ -164,9 +164,65 @@ _PROSE = (
           source="(a 9% and an 18% grade, or a 5.14° and a 10.2° slope)"),
 )
 
+_S_PSO = ("These were set at the values $\\omega = 0.66$, $\\phi_p = 1.6$ and $\\phi_g = 0.62$")
+_S_RUN = ("the Oncilla robot ran nearly 6 km during the 4 hours it spent optimizing")
+_S_IMPULSE = ("We instead give these particles a small impulse in a random direction in order "
+              "to have them start exploring new solutions ($r \\in \\mathcal{U}(-1, 1)$).")
+_T41 = "Tab. 4.1"
+
+
+def _range(row: str, name: str, unit: str, lo_pos: int, lo: float, hi: float):
+    return (
+        entry(table=_T41, artifact="table4_1", variable="lower", coords=(("parameter", name),),
+              value=lo, unit=unit, source=row, pos=lo_pos, row=name, column="range (lower)"),
+        entry(table=_T41, artifact="table4_1", variable="upper", coords=(("parameter", name),),
+              value=hi, unit=unit, source=row, pos=lo_pos + 1, row=name, column="range (upper)"),
+    )
+
+
+_SETUP = (
+    *_range("f (Hz)\t[1.5; 2.0]\tThe frequency of the gait", "f", "Hz", 0, 1.5, 2.0),
+    *_range("$x_0 \\ (\\mathrm{mm})$\t[126; 158]\tThe vertical distance of the hip to the "
+            "trajectory's center", "x0", "mm", 0, 126.0, 158.0),
+    *_range("t_{stance} (d.u.)\t[0.4; 0.6]\tThe fraction of the period of the gait spent in the "
+            "stance phase", "t_stance", "1", 0, 0.4, 0.6),
+    *_range("$l_{0f}, l_{1f} (\\mathrm{mm})$\t[0;70]\tThe control points for the top of the "
+            "trajectory for the fore feet", "l_fore", "mm", 0, 0.0, 70.0),
+    *_range("$l_{0r}, l_{1r} ({\\rm mm})$\t[0;70]\tThe control points for the top of the "
+            "trajectory for the hind feet", "l_hind", "mm", 0, 0.0, 70.0),
+    *_range("$l_2, l_3 \\text{ (mm)}$\t[0;70]\tThe control points for the bot- tom of the "
+            "trajectory for all four feet", "l_bottom", "mm", 0, 0.0, 70.0),
+    entry(table="§4.3", artifact="sec4.3", variable="omega", value=0.66, unit="1",
+          source=_S_PSO, pos=0, row="PSO inertia weight"),
+    entry(table="§4.3", artifact="sec4.3", variable="phi_p", value=1.6, unit="1",
+          source=_S_PSO, pos=1, row="PSO acceleration towards the particle's best"),
+    entry(table="§4.3", artifact="sec4.3", variable="phi_g", value=0.62, unit="1",
+          source=_S_PSO, pos=2, row="PSO acceleration towards the global best"),
+    entry(table="§4.4", artifact="sec4.4", variable="impulse_lower", value=-1.0, unit="1",
+          source=_S_IMPULSE, pos=0, row="transfer impulse r ~ U(-1, 1)",
+          note="in the thesis's parameter units (mm, Hz, d.u.); see the departure "
+               "ch4.transfer_impulse"),
+    entry(table="§4.4", artifact="sec4.4", variable="impulse_upper", value=1.0, unit="1",
+          source=_S_IMPULSE, pos=1, row="transfer impulse r ~ U(-1, 1)"),
+    entry(table="§4.5", artifact="sec4.5", variable="distance_run", value=6.0, unit="km",
+          source=_S_RUN, pos=0, row="distance run during all optimisations",
+          note="'nearly 6 km'"),
+    entry(table="§4.5", artifact="sec4.5", variable="optimisation_hours", value=4.0,
+          unit="hour", source=_S_RUN, pos=1, row="robot time of all optimisations"),
+    entry(table="§4.6.3", artifact="sec4.6.3", variable="pebble_diameter", value=1.0,
+          unit="cm", pos=0, row="pebble diameter", note="'approximately 1 cm'",
+          source="We attached a pebble dispenser to our treadmill, which covered the treadmill "
+                 "in pebbles with a diameter of approximately 1 cm."),
+    entry(table="Fig. 4.6", artifact="fig4_6", variable="top", value=50.0, unit="1", pos=0,
+          row="best particles per inclination",
+          source="In these figures, we have plotted the parameters of the 50 best particles "
+                 "found in all our optimizations for each inclination."),
+)
+
 ENTRIES: tuple[PaperValue, ...] = (
     *_table("Tab. 4.2", "table4_2", _T42),
     *_table("Tab. 4.3", "table4_3", _T43),
     *_table("Tab. 4.4", "table4_4", _T44),
     *_PROSE,
+    *_SETUP,
 )

@@ -8,12 +8,21 @@ Public API (engine_api.md); everything not re-exported here is private:
 * ``sensors(model, state) -> dict``;
 * ``rollout`` / ``batched_rollout`` / ``decay_gradient`` (BPTT through closed loops);
 * ``render``, ``render_batch``, ``project_points`` (differentiable camera, ``camera.py``);
-* ``box_inertia``, ``sphere_inertia``, ``orthonormalize`` (eq. 7.1), ``safe_norm``.
+* ``box_inertia``, ``sphere_inertia``, ``orthonormalize`` (eq. 7.1), ``safe_norm``;
+* terrain as data (``terrain``): ``incline`` (slopes by rotated gravity), ``grade_angle``,
+  ``set_material`` (floor friction, restitution, softness), ``set_field`` /
+  ``clear_field`` (a sphere field's layout); per-robot model leaves through
+  ``batched_rollout(..., per_robot=...)``;
+* ``Builder`` elements for chapters 4-6: ``add_sphere_field`` (static pebbles, K nearest
+  per contact sphere), ``add_tether`` (tension-only thread to a rail),
+  ``add_contact_sphere(..., direction=...)`` with ``add_material(..., friction_forward=,
+  friction_backward=)`` (directional friction).
 
 Module map: ``types`` (Model, State, enums), ``math``, ``builder`` + ``tables`` (host ->
 device), ``kinematics`` (joint frames, coordinates, rows), ``collision``, ``constraint``
 (row assembly, softness), ``solver`` (projected block Jacobi), ``integrator``
-(semi-implicit Euler + eq. 7.1), ``sensors``, ``step``, ``rollout``, ``camera``.
+(semi-implicit Euler + eq. 7.1), ``sensors``, ``step``, ``rollout``, ``camera``,
+``terrain`` (terrain parameters as model leaves).
 """
 
 from thesis.physics.builder import Builder as Builder
@@ -33,6 +42,13 @@ from thesis.physics.types import Model as Model
 from thesis.physics.types import ServoKind as ServoKind
 from thesis.physics.types import State as State
 
+from thesis.physics import terrain as terrain
+from thesis.physics.terrain import grade_angle as grade_angle
+from thesis.physics.terrain import incline as incline
+from thesis.physics.terrain import clear_field as clear_field
+from thesis.physics.terrain import set_field as set_field
+from thesis.physics.terrain import set_material as set_material
+
 from thesis.physics.camera import project_points as project_points
 from thesis.physics.camera import render as render
 from thesis.physics.camera import render_batch as render_batch
@@ -42,4 +58,5 @@ __all__ = [
     "step", "sensors", "rollout", "batched_rollout", "decay_gradient", "render",
     "render_batch", "project_points",
     "box_inertia", "sphere_inertia", "orthonormalize", "safe_norm",
+    "terrain", "incline", "grade_angle", "set_material", "set_field", "clear_field",
 ]

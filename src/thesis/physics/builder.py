@@ -117,6 +117,8 @@ class Builder:
         self.contact_slop = float(contact_slop)
         self.toi_correction = bool(toi_correction)
         self.bodies, self.joints, self.servos, self.springs, self.jsprings = [], [], [], [], []
+        self.tethers = []
+        self.field = None
         self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
         self.geoms, self.cameras, self.textures = [], [], []
         self.add_material("default", friction, restitution,
@@ -290,6 +292,31 @@ class Builder:
                                  a2=r2.T @ (a2 - p2), k=stiffness, c=damping, rest=rest))
         return name
 
+    def add_tether(self, name, body, anchor, rail_point, rail_direction, stiffness, damping,
+                   slack):
+        """A safety tether: a thread from world point ``anchor`` on ``body`` (at build
+        time) to a carriage that slides freely along a straight world rail through
+        ``rail_point`` along ``rail_direction``.
+
+        Models the "light thread to an overhead rail" that limited the Oncilla's lateral
+        movement on the treadmill, "loose during normal operation" (thesis §4.5). The
+        carriage is massless and frictionless, so it always sits at the foot of the
+        perpendicular from the anchor to the rail and the thread pulls perpendicular to
+        the rail. The thread is a tension-only spring-damper (``stiffness`` [N/m],
+        ``damping`` [N s/m], integrated implicitly like every spring here): no force while
+        the anchor is within ``slack`` [m] of the rail, ``k (d - slack) + c d'`` (never
+        pushing) beyond it. One unilateral row per tether (``constraint.py``); its tension
+        is the sensor ``tether_force``. Returns ``name``."""
+        i = self._body(body)
+        if i < 0:
+            raise ValueError(f"tether {name!r}: the tethered body must be a dynamic body")
+        p, r = self._pose(i)
+        u = _unit(rail_direction)
+        self.tethers.append(dict(name=name, body=i, anchor=r.T @ (np.asarray(anchor, float) - p),
+                                 rail_point=np.asarray(rail_point, np.float64), rail_dir=u,
+                                 k=float(stiffness), c=float(damping), slack=float(slack)))
+        return name
+
     def add_joint_spring(self, joint, stiffness, damping, rest_angle=0.0, axis_index=0):
         """Spring-damper on a joint coordinate: stiffness [N m/rad or N/m], damping
         [N m s/rad or N s/m], rest coordinate [rad or m]. Integrated implicitly."""
@@ -300,12 +327,21 @@ class Builder:
 
     # ---- contact --------------------------------------------------------------------
     def add_material(self, name, friction, restitution, stiffness_hz, damping_ratio,
-                     torsional=0.0):
+                     torsional=0.0, friction_forward=None, friction_backward=None):
         """Contact material: Coulomb friction, restitution, softness (natural frequency
         [Hz], damping ratio) and torsional friction length [m] (torque bound =
-        torsional * normal force). Replaces a material of the same name."""
+        torsional * normal force). Replaces a material of the same name.
+
+        ``friction_forward`` / ``friction_backward`` (default: ``friction``) are the
+        Coulomb coefficients of a *directional* contact sphere (``add_contact_sphere(...,
+        direction=...)``) sliding forward / backward along its direction; ``friction``
+        then bounds the lateral sliding. Contacts of spheres without a direction use
+        ``friction`` in every direction."""
+        fwd = friction if friction_forward is None else friction_forward
+        bwd = friction if friction_backward is None else friction_backward
         m = dict(name=name, friction=friction, restitution=restitution, hz=stiffness_hz,
-                 zeta=damping_ratio, torsional=torsional)
+                 zeta=damping_ratio, torsional=torsional, friction_forward=fwd,
+                 friction_backward=bwd)
         names = [x["name"] for x in self.materials]
         if name in names:
             self.materials[names.index(name)] = m
@@ -329,18 +365,78 @@ class Builder:
                                    color=color, texture=texture))
         return name
 
-    def add_contact_sphere(self, body, radius, offset=(0, 0, 0), material=None):
+    def add_contact_sphere(self, body, radius, offset=(0, 0, 0), material=None,
+                           direction=None):
         """Collision sphere of ``radius`` [m] at ``offset`` (body frame) on ``body``. It
         collides with every plane and with spheres listed by ``add_sphere_pair``; its
-        material (if given) overrides the plane's. Returns its index."""
+        material (if given) overrides the plane's. Returns its index.
+
+        ``direction`` (body frame, normalised here) makes its friction directional, like
+        a skin with scales or bristles (Puppy II's feet, thesis §5.3.1: "an adhesive skin
+        attached with asymmetrical friction"): in each contact the first friction row
+        lies along the direction projected onto the contact plane, bounded by the
+        material's ``friction_forward`` times the normal force while the sphere slides
+        forward along it and ``friction_backward`` while it slides backward; the second
+        (lateral) row by ``friction``. Without a direction the friction pyramid is the
+        isotropic one (and the model compiles to the same program as before the option
+        existed)."""
+        if direction is not None:
+            direction = np.asarray(direction, np.float64).reshape(3)
+            if not np.linalg.norm(direction) > 0:
+                raise ValueError("add_contact_sphere: direction must be a non-zero 3-vector")
+            direction = direction / np.linalg.norm(direction)
         self.cspheres.append(dict(body=self._body(body), radius=float(radius),
                                   offset=np.asarray(offset, np.float64),
-                                  material=self._material(material)))
+                                  material=self._material(material), direction=direction))
         return len(self.cspheres) - 1
 
     def add_sphere_pair(self, sphere1, sphere2, material="default"):
         """Let contact spheres ``sphere1`` and ``sphere2`` (indices) collide."""
         self.sphere_pairs.append((int(sphere1), int(sphere2), self._material(material)))
+
+    def add_sphere_field(self, name, centres, radii, material="default", *, k=2,
+                         spheres=None, cell_size=None, capacity=None, bounds=None):
+        """A static field of world-fixed spheres (pebbles, rough ground) that collide with
+        the dynamic contact spheres ``spheres`` (indices; default: every contact sphere
+        at ``build()``), each checking only its ``k`` nearest field spheres per step.
+
+        Detection costs the same for any number N of field spheres: at build time the
+        spheres are sorted into a uniform x-y grid of ``cell_size`` [m] cells holding at
+        most ``capacity`` spheres each (``thesis.physics.collision.field_contacts``); a
+        query sphere looks at the 3 x 3 cells around its centre only and keeps the ``k``
+        smallest gaps, so the solver gets ``k`` contact rows per query sphere (inactive
+        ones clamp to zero impulse). Field spheres never collide with planes or with each
+        other, and they do not move.
+
+        Args:
+            name: the field's name (one field per model).
+            centres: (N, 3) world centres [m]. radii: () or (N,) radii [m].
+            material: contact material (a query sphere's own material overrides it, as
+                against planes).
+            k: field spheres per query sphere and step (static).
+            spheres: contact-sphere indices that collide with the field.
+            cell_size: grid cell edge [m]; minimum: the largest field radius plus the
+                largest query-sphere radius (a touching sphere then lies in the 3 x 3
+                neighbourhood); default 1 % more than that.
+            capacity: spheres per cell; default: the most in any cell of this layout.
+            bounds: ((x_min, y_min), (x_max, y_max)) the grid covers [m]; default: the
+                centres' bounding box. Other layouts of the same model
+                (:func:`thesis.physics.terrain.set_field`) must fit the bounds and the
+                capacity, which fix the compiled shapes.
+        Returns ``name``.
+        """
+        if self.field is not None:
+            raise ValueError(f"model {self.name!r} already has the sphere field "
+                             f"{self.field['name']!r}; one field per model")
+        centres = np.asarray(centres, np.float64).reshape(-1, 3)
+        radii = np.broadcast_to(np.asarray(radii, np.float64), (centres.shape[0],)).copy()
+        if int(k) < 1:
+            raise ValueError(f"sphere field {name!r}: k must be >= 1, got {k}")
+        self.field = dict(name=name, centres=centres, radii=radii,
+                          material=self._material(material), k=int(k),
+                          spheres=None if spheres is None else [int(i) for i in spheres],
+                          cell_size=cell_size, capacity=capacity, bounds=bounds)
+        return name
 
     # ---- rendering ------------------------------------------------------------------
     def add_texture(self, name, image):

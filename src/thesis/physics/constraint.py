@@ -5,8 +5,8 @@ and its accumulated impulse lambda_i in [lo_i, hi_i] (FACTS §2.4-2.7). The rows
 two families with static shapes:
 
 * joint blocks (n_joint, 6): the equality rows of each joint, solved together;
-* scalar rows (n_rows,): ``[servos | limits | joint springs | springs | contact normals |
-  friction t1 | friction t2 | (torsion)]`` in that static order.
+* scalar rows (n_rows,): ``[servos | limits | joint springs | springs | tethers |
+  contact normals | friction t1 | friction t2 | (torsion)]`` in that static order.
 
 Softness (FACTS §2.4 item 3, derived so its units are consistent): a row with natural
 frequency f [Hz] and damping ratio zeta behaves as an implicit spring-damper of stiffness
@@ -21,10 +21,17 @@ stable for any stiffness.
 Servos (FACTS §2.7): a hard velocity row along the joint coordinate with target rate
 ``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
 or the command for velocity servos, and impulse bounded by ``max_torque * dt``.
+Tethers (``Builder.add_tether``): a spring row on the anchor's distance d from its rail
+with impulse in [-inf, 0] (pull only) while d > slack and [0, 0] while slack, so a slack
+tether applies exactly no impulse.
 Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
 restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
 friction rows in a pyramid ``|lambda_t| <= mu lambda_n`` and an optional torsional row
-``|lambda_tau| <= torsional * lambda_n``.
+``|lambda_tau| <= torsional * lambda_n``. A contact with a directional sphere
+(``Model.directional``) bounds its first friction row asymmetrically,
+``-mu_forward lambda_n <= lambda_t1 <= mu_backward lambda_n`` (``t1`` along the sphere's
+direction, ``collision.directional_basis``: a negative impulse resists sliding forward);
+the rows then carry a lower-bound coefficient ``fric_lo`` beside ``fric``.
 """
 
 from __future__ import annotations
@@ -52,7 +59,7 @@ def _spring(k, c, dt):
     return dt * k / hk_c, 1.0 / (dt * hk_c)
 
 
-def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
+def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=None):
     """Assemble the scalar rows.
 
     Args:
@@ -61,22 +68,26 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         spring_geo: (d, length, ra, rb) of the body springs (n_spring, ...).
         vel6: (n_body + 1, 6) velocities after gravity (for restitution).
         action: (n_servo,) servo commands.
+        tether_geo: (unit, length, r) of ``step.tether_geometry`` (models with tethers).
     Returns:
         dict of (n_rows, ...) arrays ``ja``, ``jb``, ``bias``, ``gamma``, ``cfm_abs``,
         ``lo``, ``hi``, ``fric`` (friction-bound coefficient, applied to the impulse of
-        row ``ref``), and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
+        row ``ref``), ``fric_lo`` (lower-bound coefficient; only in directional models),
+        and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
     """
     q, qdot, dja, djb = dofs
     dt = m.dt
     dtype = vel6.dtype
     parts = []  # (ja, jb, bias, gamma, cfm_abs, lo, hi, fric, body_a, body_b)
+    fric_lo = []  # per part: lower friction-bound coefficient, None = fric (directional)
 
-    def add(ja, jb, bias, gamma, cfm_abs, lo, hi, fric, ba, bb):
+    def add(ja, jb, bias, gamma, cfm_abs, lo, hi, fric, ba, bb, lower=None):
         n = ja.shape[0]
         if n:
             bc = lambda x: jnp.broadcast_to(jnp.asarray(x, dtype), (n,))  # noqa: E731
             parts.append((ja, jb, bc(bias), bc(gamma), bc(cfm_abs), bc(lo), bc(hi),
                           bc(fric), np.broadcast_to(ba, (n,)), np.broadcast_to(bb, (n,))))
+            fric_lo.append(None if lower is None else bc(lower))
 
     dof_b1 = m.joint_body1[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
     dof_b2 = m.joint_body2[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
@@ -125,13 +136,22 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         add(ja, jb, erp / dt * (length - m.spring_rest), 0.0, cfm, -INF, INF, 0.0,
             m.spring_body1, m.spring_body2)
 
+    # tethers: tension-only implicit spring-damper on the anchor's distance from the rail
+    if m.tether_names:
+        unit, length, r = tether_geo
+        erp, cfm = _spring(m.tether_k, m.tether_c, dt)
+        jb = jnp.concatenate([unit, jnp.cross(r, unit)], -1)  # rate of the distance
+        taut = length > m.tether_slack
+        add(jnp.zeros_like(jb), jb, erp / dt * (length - m.tether_slack), 0.0, cfm,
+            jnp.where(taut, -INF, 0.0), 0.0, 0.0, m.n_body, m.tether_body)
+
     # contacts
-    np_ = m.n_pair
+    np_ = m.n_contact
     contact_start = sum(p[0].shape[0] for p in parts)
     if np_:
         n, ra, rb = contacts["normal"], contacts["ra"], contacts["rb"]
         ba, bb = contacts["body_a"], contacts["body_b"]
-        mat = m.pair_material
+        mat = m.contact_material
         erp, gamma = softness(m.material_hz[mat], m.material_zeta[mat], dt)
         ja_n = jnp.concatenate([-n, -jnp.cross(ra, n)], -1)
         jb_n = jnp.concatenate([n, jnp.cross(rb, n)], -1)
@@ -143,10 +163,17 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
         # a bouncing contact is a hard velocity target (softness would eat the bounce)
         add(ja_n, jb_n, jnp.minimum(pen, bounce), jnp.where(bounce < pen, 0.0, gamma), 0.0,
             0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
-        for t in (contacts["t1"], contacts["t2"]):
+        if m.directional:  # t1: -mu_forward <= lambda / lambda_n <= mu_backward
+            mu = m.material_friction[mat]
+            dirn = np.asarray(m.contact_dir_sign != 0)
+            bounds = ((jnp.where(dirn, m.material_friction_backward[mat], mu),
+                       jnp.where(dirn, m.material_friction_forward[mat], mu)), (mu, mu))
+        else:  # isotropic: the program of a model without directional spheres
+            bounds = ((None, None), (None, None))
+        for t, (hi_c, lo_c) in zip((contacts["t1"], contacts["t2"]), bounds):
             add(jnp.concatenate([-t, -jnp.cross(ra, t)], -1),
                 jnp.concatenate([t, jnp.cross(rb, t)], -1), 0.0, 0.0, 0.0, -INF, INF,
-                m.material_friction[mat], ba, bb)
+                m.material_friction[mat] if hi_c is None else hi_c, ba, bb, lower=lo_c)
         if m.torsional:
             z = jnp.zeros_like(n)
             add(jnp.concatenate([z, -n], -1), jnp.concatenate([z, n], -1), 0.0, 0.0, 0.0,
@@ -161,6 +188,9 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action):
     cols = list(zip(*parts))
     out = {k: jnp.concatenate(v) for k, v in zip(
         ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric"), cols[:8])}
+    if m.directional:
+        out["fric_lo"] = jnp.concatenate([p[7] if lo is None else lo
+                                          for p, lo in zip(parts, fric_lo)])
     out["body_a"] = np.concatenate(cols[8]).astype(np.int32)
     out["body_b"] = np.concatenate(cols[9]).astype(np.int32)
     nr = out["bias"].shape[0]

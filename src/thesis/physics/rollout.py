@@ -23,6 +23,7 @@ here), splits the batch across the devices with ``jax.shard_map``.
 from __future__ import annotations
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, PartitionSpec as P
 
@@ -75,7 +76,7 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
 
 
 def batched_rollout(model: Model, states0: State, controller, params, n_steps: int, *,
-                    memory0=None, batch_memory=False, chunk=1, **kwargs):
+                    memory0=None, batch_memory=False, chunk=1, per_robot=None, **kwargs):
     """``rollout`` over a batch of initial states (leading axis B), sharing ``params``.
 
     With ``jax.device_count() > 1`` and B divisible by the device count, the batch is
@@ -90,10 +91,22 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
     sequential one). ``memory0`` is shared
     unless ``batch_memory=True``. Returns ``(final_states, trajectories)`` with a leading
     batch axis; results equal ``jax.vmap(rollout)`` up to float round-off.
+
+    ``per_robot`` gives robots their own values of model leaves: a dict from a traced
+    ``Model`` field name (e.g. ``"gravity"``, ``"material_friction"``, the sphere field's
+    ``"field_centre"``) to an array with a leading batch axis B and the leaf's shape
+    after it. Each robot then runs ``model.replace(**its_values)``; the topology stays
+    shared, so one compilation serves the whole batch (terrain as data,
+    ``thesis.physics.terrain``). Fields not named stay shared.
     """
     mem_axis = 0 if batch_memory else None
     if chunk != 1:  # vmapped: the solver's batched variant (Model.batched)
         model = model.replace(batched=True)
+    batch = jax.tree.leaves(states0)[0].shape[0]
+    if per_robot:
+        return _per_robot_rollout(model, states0, controller, params, n_steps,
+                                  _check_per_robot(model, per_robot, batch), memory0,
+                                  batch_memory, chunk, kwargs)
 
     def one(s, mm):
         return rollout(model, s, controller, params, n_steps, memory0=mm, **kwargs)
@@ -110,7 +123,6 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
         return jax.lax.map(lambda s: one(s, mem), s0, batch_size=size)
 
     n_dev = jax.device_count()
-    batch = jax.tree.leaves(states0)[0].shape[0]
     if n_dev > 1 and batch % n_dev == 0:
         mesh = Mesh(np.array(jax.devices()), ("batch",))
         mem_spec = P("batch") if batch_memory else P()
@@ -118,3 +130,48 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
                                 out_specs=P("batch"), check_vma=False)
         return sharded(states0, memory0)
     return run(states0, memory0)
+
+
+def _check_per_robot(model: Model, per_robot: dict, batch: int) -> dict:
+    """Validate ``per_robot`` (see :func:`batched_rollout`): traced Model fields with a
+    leading batch axis and the leaf's shape; returns the dict with ``jax.Array`` values."""
+    out = {}
+    for name, value in per_robot.items():
+        if name in Model._STATIC or not hasattr(model, name):
+            raise ValueError(f"per_robot: {name!r} is not a traced Model field (static "
+                             "topology cannot differ between the robots of one batch)")
+        leaf = getattr(model, name)
+        value = jnp.asarray(value, leaf.dtype)
+        if value.shape != (batch,) + tuple(leaf.shape):
+            raise ValueError(f"per_robot[{name!r}]: shape {value.shape}, expected "
+                             f"{(batch,) + tuple(leaf.shape)} (batch {batch}, then the leaf)")
+        out[name] = value
+    return out
+
+
+def _per_robot_rollout(model, states0, controller, params, n_steps, leaves, memory0,
+                       batch_memory, chunk, kwargs):
+    """:func:`batched_rollout` with per-robot model leaves ``leaves`` (checked dict)."""
+
+    def one(s, mm, lv):
+        return rollout(model.replace(**lv), s, controller, params, n_steps, memory0=mm,
+                       **kwargs)
+
+    size = None if chunk == 1 else chunk
+
+    def run(s0, mem, lv):
+        if chunk is None:
+            return jax.vmap(one, in_axes=(0, 0 if batch_memory else None, 0))(s0, mem, lv)
+        if batch_memory:
+            return jax.lax.map(lambda x: one(*x), (s0, mem, lv), batch_size=size)
+        return jax.lax.map(lambda x: one(x[0], mem, x[1]), (s0, lv), batch_size=size)
+
+    n_dev = jax.device_count()
+    batch = jax.tree.leaves(states0)[0].shape[0]
+    if n_dev > 1 and batch % n_dev == 0:
+        mesh = Mesh(np.array(jax.devices()), ("batch",))
+        mem_spec = P("batch") if batch_memory else P()
+        sharded = jax.shard_map(run, mesh=mesh, in_specs=(P("batch"), mem_spec, P("batch")),
+                                out_specs=P("batch"), check_vma=False)
+        return sharded(states0, memory0, leaves)
+    return run(states0, memory0, leaves)

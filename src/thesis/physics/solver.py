@@ -79,7 +79,7 @@ def _apply_minv(j, inv_m, inv_iw, axis):
     return jnp.concatenate([lin, ang], axis)
 
 
-_ROW_KEYS = ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric")
+_ROW_KEYS = ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric", "fric_lo")
 _BLOCK_KEYS = ("ja", "jb", "bias", "gamma")
 
 
@@ -97,7 +97,8 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
         mask with the batch axes), ``ja``, ``jb``,
         ``wa``, ``wb`` (M^-1 J^T), ``a_inv`` (inverse of the softened 6x6 block),
         ``bias_j``, ``cfm_j``; scalar rows ``rja``, ``rjb``, ``wra``, ``wrb``, ``m_c``
-        (effective mass), ``cfm``, ``bias``, ``lo``, ``hi``, ``fric``.
+        (effective mass), ``cfm``, ``bias``, ``lo``, ``hi``, ``fric`` and, for
+        directional friction, ``fric_lo``.
     """
     dtype = v0.dtype
     ba, bb, ra, rb = idx
@@ -116,10 +117,13 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
     wrb = _apply_minv(rows["jb"], inv_m[rb], inv_iw[rb], 1)
     d = jnp.sum(rows["ja"] * wra, axis=1) + jnp.sum(rows["jb"] * wrb, axis=1)
     cfm = rows["gamma"] * d + rows["cfm_abs"]
-    return dict(v0=v0, mask=mask, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
-                bias_j=blocks["bias"], cfm_j=cfm_blk, rja=rows["ja"], rjb=rows["jb"],
-                wra=wra, wrb=wrb, m_c=1.0 / jnp.maximum(d + cfm, 1e-12), cfm=cfm,
-                bias=rows["bias"], lo=rows["lo"], hi=rows["hi"], fric=rows["fric"])
+    out = dict(v0=v0, mask=mask, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
+               bias_j=blocks["bias"], cfm_j=cfm_blk, rja=rows["ja"], rjb=rows["jb"],
+               wra=wra, wrb=wrb, m_c=1.0 / jnp.maximum(d + cfm, 1e-12), cfm=cfm,
+               bias=rows["bias"], lo=rows["lo"], hi=rows["hi"], fric=rows["fric"])
+    if "fric_lo" in rows:  # directional friction (static)
+        out["fric_lo"] = rows["fric_lo"]
+    return out
 
 
 def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
@@ -159,8 +163,10 @@ def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
     def project(lr):
         lr = jnp.clip(lr, c["lo"], c["hi"])
         bound = c["fric"] * lr[ref]
+        # directional friction: [-fric_lo, fric] x the normal impulse (static branch)
+        lower = -c["fric_lo"] * lr[ref] if "fric_lo" in c else -bound
         return jnp.where(is_fric.reshape(is_fric.shape + (1,) * extra),
-                         jnp.clip(lr, -bound, bound), lr)
+                         jnp.clip(lr, lower, bound), lr)
 
     def sweep(_, carry):
         lj, lr = carry
@@ -196,7 +202,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
     idx = (blocks["body_a"], blocks["body_b"], rows["body_a"], rows["body_b"])
     ref, is_fric = rows["ref"], rows["is_fric"]
     blk = {k: blocks[k] for k in _BLOCK_KEYS}
-    row = {k: rows[k] for k in _ROW_KEYS}
+    row = {k: rows[k] for k in _ROW_KEYS if k in rows}
 
     def single(relax, v0_, inv_m_, inv_iw_, blk_, row_, lj0, lr0):
         c = _prepare(m.joint_row_mask, idx, v0_, inv_m_, inv_iw_, blk_, row_)

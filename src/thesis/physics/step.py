@@ -1,10 +1,11 @@
 """One time step of the engine, written as the algorithm of FACTS §2.4 / thesis §7.2.
 
 1. apply gravity (external forces) to the velocities;
-2. detect contacts and build the constraint rows (joints, servos, limits, springs,
+2. detect contacts and build the constraint rows (joints, servos, limits, springs, tethers,
    contacts) at the current poses;
-3. warm-start with a fraction of last step's impulses and run the projected block-Jacobi
-   solver for the new velocities;
+3. warm-start with a fraction of last step's impulses (a sphere field's contacts keep
+   the impulse of their field sphere, ``field_warm_start``) and run the projected
+   block-Jacobi solver for the new velocities;
 4. integrate the poses with semi-implicit Euler and re-orthonormalise (eq. 7.1);
 5. optionally (``Model.toi_correction``) correct the positions of bodies whose sphere-plane
    contacts were hit during the last step for the time of impact (``toi_correction``).
@@ -20,7 +21,8 @@ from thesis.physics import collision, constraint, integrator, kinematics, solver
 from thesis.physics.math import decay_gradient, mv, safe_norm
 from thesis.physics.types import Model, State
 
-__all__ = ["step", "spring_geometry", "toi_correction"]
+__all__ = ["step", "spring_geometry", "tether_geometry", "field_warm_start",
+           "toi_correction"]
 
 
 def spring_geometry(m: Model, pos, rot):
@@ -33,6 +35,54 @@ def spring_geometry(m: Model, pos, rot):
     ok = length > 1e-9
     unit = jnp.where(ok[:, None], d / jnp.where(ok, length, 1.0)[:, None], 0.0)
     return unit, length, ra, rb
+
+
+def tether_geometry(m: Model, pos, rot):
+    """Tethers' distance from their rails (``Builder.add_tether``).
+
+    Returns (unit (n_tether, 3), length (n_tether,), r (n_tether, 3)): the unit vector
+    from the carriage (the anchor's foot on the rail) to the anchor, their distance [m]
+    and the anchor's offset from its body's CoM [m]. ``unit`` is 0 where the anchor is
+    on the rail (gradient-safe).
+    """
+    b = m.tether_body
+    r = mv(rot[b], m.tether_anchor)
+    rel = pos[b] + r - m.tether_rail_point
+    u = m.tether_rail_dir
+    perp = rel - jnp.sum(rel * u, -1, keepdims=True) * u
+    length = safe_norm(perp)
+    ok = length > 1e-9
+    unit = jnp.where(ok[:, None], perp / jnp.where(ok, length, 1.0)[:, None], 0.0)
+    return unit, length, r
+
+
+def field_warm_start(m: Model, row_impulse, old_id, new_id):
+    """Last step's impulses of the field contacts moved to this step's slots.
+
+    A field contact slot holds whichever of the ``k`` nearest field spheres sorts there
+    (``collision.field_contacts``); when the set changes, a field sphere may move to
+    another slot. Each slot's warm start is the impulse its field sphere (``new_id``) had
+    in the last step (``old_id``), 0 for a field sphere that was not among the nearest.
+
+    Args:
+        row_impulse: (n_rows,) last step's scalar-row impulses.
+        old_id, new_id: (n_field_pair,) field sphere of each slot, last step and now.
+    Returns:
+        (n_rows,) the impulses with the field contacts' normal, friction (and torsion)
+        rows permuted.
+    """
+    nq, k = int(m.field_query.shape[0]), m.field_k
+    n_fp = m.n_field_pair
+    match = (old_id.reshape(nq, k)[:, :, None] == new_id.reshape(nq, k)[:, None, :])
+    src = jnp.argmax(match, axis=1).reshape(-1)  # old slot of each new slot's sphere
+    found = jnp.any(match, axis=1).reshape(-1)
+    first = m.n_rows - m.rows_per_contact * m.n_contact + m.n_pair
+    base = np.asarray([first + g * m.n_contact for g in range(m.rows_per_contact)])
+    slot0 = np.repeat(np.arange(nq) * k, k)  # first slot of each new slot's query sphere
+    rows = (base[:, None] + np.arange(n_fp)[None, :]).reshape(-1)  # the field rows
+    from_rows = (base[:, None] + slot0[None, :] + src[None, :]).reshape(-1)
+    moved = jnp.where(jnp.tile(found, m.rows_per_contact), row_impulse[from_rows], 0.0)
+    return row_impulse.at[rows].set(moved.astype(row_impulse.dtype))
 
 
 def toi_correction(m: Model, contacts, vel, angvel):
@@ -100,10 +150,13 @@ def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
                       body_a=m.joint_body1, body_b=m.joint_body2)
         contacts = collision.detect(m, pos, rot)
         springs = spring_geometry(m, pos, rot)
-        rows = constraint.scalar_rows(m, dofs, contacts, springs, v0, action)
+        tethers = tether_geometry(m, pos, rot) if m.tether_names else None
+        rows = constraint.scalar_rows(m, dofs, contacts, springs, v0, action, tethers)
     with jax.named_scope("solver"):
         inv_m, inv_iw = solver.inverse_mass(m, rot)
         guess_j, guess_r = s.joint_impulse, s.row_impulse
+        if m.n_field_pair:
+            guess_r = field_warm_start(m, guess_r, s.field_id, contacts["field_id"])
         if not (isinstance(warm_start_grad, (int, float)) and warm_start_grad == 1.0):
             guess_j, guess_r = decay_gradient((guess_j, guess_r), warm_start_grad)
         v, lam_j, lam_r = solver.solve(m, v0, inv_m, inv_iw, blocks, rows,
@@ -114,6 +167,7 @@ def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
         if m.toi_correction and m.n_pair and not m.pair_is_sphere.all():
             tau = toi_correction(m, contacts, s.vel, s.angvel)
             new_pos = new_pos + tau[:, None] * (v[:nb, :3] - s.vel)
+    extra = dict(field_id=contacts["field_id"]) if m.n_field_pair else {}
     return s.replace(pos=new_pos, rot=new_rot, vel=v[:nb, :3], angvel=new_w,
                      prev_vel=s.vel, joint_impulse=lam_j, row_impulse=lam_r,
-                     time=s.time + dt)
+                     time=s.time + dt, **extra)

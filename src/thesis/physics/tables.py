@@ -63,6 +63,28 @@ def build_model(b, dtype):
         pairs_is.append(True)
         pairs_m.append(m)
     torsional = any(b.materials[m]["torsional"] > 0 for m in pairs_m)
+    # directional friction: the pair's directional sphere and the side it is on (+1 body b,
+    # -1 body a, 0 none); planes are body a, so a sphere against a plane is body b
+    directed = [s["direction"] is not None for s in b.cspheres]
+    dir_sphere, dir_sign = [], []
+    for si, other, is_s in zip(pairs_s, pairs_o, pairs_is):
+        if is_s and directed[si] and directed[other]:
+            raise ValueError(f"sphere pair ({si}, {other}): both contact spheres have a "
+                             "friction direction; give it to at most one of them")
+        if is_s and directed[si]:
+            dir_sphere.append(si)
+            dir_sign.append(-1)
+        elif is_s and directed[other]:
+            dir_sphere.append(other)
+            dir_sign.append(1)
+        elif not is_s and directed[si]:
+            dir_sphere.append(si)
+            dir_sign.append(1)
+        else:
+            dir_sphere.append(0)
+            dir_sign.append(0)
+
+    field = _field_tables(b, dtype)
 
     tex = b.textures
     if tex:
@@ -97,9 +119,15 @@ def build_model(b, dtype):
         spring_names=tuple(s["name"] for s in b.springs),
         spring_body1=ints([fix(s["b1"]) for s in b.springs]),
         spring_body2=ints([fix(s["b2"]) for s in b.springs]),
+        tether_names=tuple(t["name"] for t in b.tethers),
+        tether_body=ints([t["body"] for t in b.tethers]),
         csphere_body=ints([fix(s["body"]) for s in b.cspheres]),
         pair_sphere=ints(pairs_s), pair_other=ints(pairs_o),
         pair_is_sphere=np.asarray(pairs_is, bool).reshape(-1), pair_material=ints(pairs_m),
+        pair_dir_sphere=ints(dir_sphere), pair_dir_sign=ints(dir_sign),
+        field_name=field["name"], field_query=field["query"], field_k=field["k"],
+        field_grid=field["grid"], field_material=field["material"],
+        field_dir_sign=field["dir_sign"],
         torsional=bool(torsional), toi_correction=bool(b.toi_correction),
         material_names=tuple(m["name"] for m in b.materials),
         plane_names=tuple(p["name"] for p in b.planes),
@@ -133,15 +161,27 @@ def build_model(b, dtype):
         spring_k=f("k", b.springs, (len(b.springs),)),
         spring_c=f("c", b.springs, (len(b.springs),)),
         spring_rest=f("rest", b.springs, (len(b.springs),)),
+        tether_anchor=f("anchor", b.tethers, (len(b.tethers), 3)),
+        tether_rail_point=f("rail_point", b.tethers, (len(b.tethers), 3)),
+        tether_rail_dir=f("rail_dir", b.tethers, (len(b.tethers), 3)),
+        tether_k=f("k", b.tethers, (len(b.tethers),)),
+        tether_c=f("c", b.tethers, (len(b.tethers),)),
+        tether_slack=f("slack", b.tethers, (len(b.tethers),)),
         csphere_radius=f("radius", b.cspheres, (len(b.cspheres),)),
         csphere_offset=f("offset", b.cspheres, (len(b.cspheres), 3)),
+        csphere_direction=_arr([np.zeros(3) if c["direction"] is None else c["direction"]
+                                for c in b.cspheres], (len(b.cspheres), 3), dtype),
         plane_normal=f("normal", b.planes, (len(b.planes), 3)),
         plane_offset=f("offset", b.planes, (len(b.planes),)),
+        field_centre=field["centre"], field_radius=field["radius"],
+        field_origin=field["origin"], field_cell=field["cell"],
         material_friction=f("friction", b.materials, (len(b.materials),)),
         material_restitution=f("restitution", b.materials, (len(b.materials),)),
         material_hz=f("hz", b.materials, (len(b.materials),)),
         material_zeta=f("zeta", b.materials, (len(b.materials),)),
         material_torsional=f("torsional", b.materials, (len(b.materials),)),
+        material_friction_forward=f("friction_forward", b.materials, (len(b.materials),)),
+        material_friction_backward=f("friction_backward", b.materials, (len(b.materials),)),
         geom_size=f("size", G, (len(G), 3)), geom_pos=f("pos", G, (len(G), 3)),
         geom_rot=f("rot", G, (len(G), 3, 3)), geom_color=f("color", G, (len(G), 3)),
         textures=jnp.asarray(textures, dtype),
@@ -154,5 +194,127 @@ def build_model(b, dtype):
         angvel=f("angvel", b.bodies, (nb, 3)), prev_vel=vel,
         joint_impulse=jnp.zeros((nj, 6), dtype), row_impulse=jnp.zeros((model.n_rows,), dtype),
         time=jnp.zeros((), dtype),
+        field_id=jnp.full((model.n_field_pair,), -1.0, dtype),
     )
     return model, state
+
+
+def _field_tables(b, dtype):
+    """Static and traced tables of the builder's sphere field (or of none)."""
+    none = dict(name="", query=np.zeros((0,), np.int32), k=0, grid=(0, 0, 0),
+                material=np.zeros((0,), np.int32), dir_sign=np.zeros((0,), np.int32),
+                centre=jnp.zeros((0, 3), dtype), radius=jnp.zeros((0,), dtype),
+                origin=jnp.zeros((2,), dtype), cell=jnp.ones((), dtype))
+    f = b.field
+    if f is None:
+        return none
+    n_cs = len(b.cspheres)
+    query = list(range(n_cs)) if f["spheres"] is None else f["spheres"]
+    if not query or min(query) < 0 or max(query) >= n_cs:
+        raise ValueError(f"sphere field {f['name']!r}: query spheres {query} must be "
+                         f"indices of the {n_cs} contact spheres")
+    if b.cspheres and any(b.cspheres[i]["body"] < 0 for i in query):
+        raise ValueError(f"sphere field {f['name']!r}: query spheres must sit on dynamic bodies")
+    r_query = max(b.cspheres[i]["radius"] for i in query)
+    layout = field_layout(f["centres"], f["radii"], r_query, f["cell_size"], f["capacity"],
+                          f["bounds"], f["name"])
+    mats = [b.cspheres[i]["material"] for i in query]
+    dirs = [int(b.cspheres[i]["direction"] is not None) for i in query]
+    centre, radius = pack_field(f["centres"], f["radii"], layout)
+    return dict(name=f["name"], query=np.asarray(query, np.int32), k=f["k"],
+                grid=layout["grid"],
+                material=np.asarray([f["material"] if m is None else m for m in mats], np.int32),
+                dir_sign=np.asarray(dirs, np.int32),
+                centre=jnp.asarray(centre, dtype), radius=jnp.asarray(radius, dtype),
+                origin=jnp.asarray(layout["origin"], dtype),
+                cell=jnp.asarray(layout["cell"], dtype))
+
+
+#: z of an empty grid slot's centre [m]: far below any floor (radius 0), finite so that
+#: the contact geometry of an unused candidate stays finite.
+EMPTY_Z = -1.0e6
+
+
+def field_layout(centres, radii, r_query, cell_size=None, capacity=None, bounds=None,
+                 name="field"):
+    """The grid of a sphere field: ``dict(grid=(nx, ny, capacity), origin=(2,), cell)``.
+
+    The grid covers ``bounds`` (default: the centres' x-y bounding box) plus one empty
+    border cell on every side, so the 3 x 3 neighbourhood of any (clipped) cell is made of
+    distinct cells; ``cell`` defaults to (and must be at least) the largest field radius
+    plus ``r_query`` (1 % more by default). Raises ``ValueError`` naming the field for a
+    layout that does not fit (a sphere outside the bounds, a cell over capacity, a cell
+    that is too small).
+    """
+    centres = np.asarray(centres, np.float64).reshape(-1, 3)
+    radii = np.asarray(radii, np.float64).reshape(-1)
+    r_max = float(radii.max()) if radii.size else 0.0
+    need = r_max + float(r_query)
+    # 1 % over the minimum: round-off where a sphere sits on a cell border cannot move it
+    # two cells away from a query sphere that touches it (float32 x-y 2,000 cells out
+    # are good to ~1e-4 cells)
+    cell = 1.01 * need if cell_size is None else float(cell_size)
+    if not cell > 0 or cell < need * (1 - 1e-9):
+        raise ValueError(f"sphere field {name!r}: cell_size {cell} must be >= the largest "
+                         f"field radius plus the largest query radius ({need})")
+    if bounds is None:
+        if not centres.shape[0]:
+            raise ValueError(f"sphere field {name!r}: give bounds for an empty field")
+        lo, hi = centres[:, :2].min(0), centres[:, :2].max(0)
+    else:
+        lo, hi = (np.asarray(x, np.float64).reshape(2) for x in bounds)
+        if not np.all(hi >= lo):
+            raise ValueError(f"sphere field {name!r}: bounds {bounds} need x_max >= x_min "
+                             "and y_max >= y_min")
+    n = np.floor((hi - lo) / cell).astype(int) + 1 + 2  # inner cells, one border cell a side
+    origin = lo - cell
+    layout = dict(grid=(int(n[0]), int(n[1]), 0), origin=origin, cell=cell)
+    counts = np.bincount(_cells(centres, layout, name), minlength=int(n[0] * n[1]))
+    cap = int(counts.max(initial=0)) if capacity is None else int(capacity)
+    if counts.max(initial=0) > cap:
+        raise ValueError(f"sphere field {name!r}: a cell holds {int(counts.max())} spheres, "
+                         f"capacity is {cap}")
+    layout["grid"] = (int(n[0]), int(n[1]), max(cap, 1))
+    return layout
+
+
+def _cells(centres, layout, name):
+    """Flat cell index of each centre; ``ValueError`` if one lies outside the bounds."""
+    n = np.asarray(layout["grid"][:2])
+    u = (centres[:, :2] - layout["origin"]) / layout["cell"]
+    inside = np.all((u >= 1 - 1e-9) & (u <= n - 1 + 1e-9), axis=1)  # round-off at the bounds
+    ij = np.clip(np.floor(u).astype(np.int64), 1, n - 2)
+    ny = int(n[1])
+    if not inside.all():
+        bad = centres[~inside][0]
+        raise ValueError(f"sphere field {name!r}: centre {bad.tolist()} lies outside the "
+                         "field's bounds")
+    return ij[:, 0] * ny + ij[:, 1]
+
+
+def pack_field(centres, radii, layout, name="field"):
+    """Cell-major arrays ``(centre (nx ny cap, 3), radius (nx ny cap,))`` of a layout.
+
+    Spheres fill the slots of their cell in input order; empty slots sit at
+    ``EMPTY_Z`` with radius 0.
+    """
+    centres = np.asarray(centres, np.float64).reshape(-1, 3)
+    radii = np.broadcast_to(np.asarray(radii, np.float64), (centres.shape[0],))
+    nx, ny, cap = layout["grid"]
+    cell_of = _cells(centres, layout, name)
+    order = np.argsort(cell_of, kind="stable")
+    cells = cell_of[order]
+    first = np.searchsorted(cells, cells, side="left")
+    slot = np.arange(cells.size) - first
+    if slot.size and slot.max() >= cap:
+        raise ValueError(f"sphere field {name!r}: a cell holds {int(slot.max()) + 1} "
+                         f"spheres, capacity is {cap}")
+    ix, iy = np.divmod(np.arange(nx * ny), ny)
+    centre = np.zeros((nx * ny, cap, 3))
+    centre[:, :, 0] = (layout["origin"][0] + (ix[:, None] + 0.5) * layout["cell"])
+    centre[:, :, 1] = (layout["origin"][1] + (iy[:, None] + 0.5) * layout["cell"])
+    centre[:, :, 2] = EMPTY_Z
+    radius = np.zeros((nx * ny, cap))
+    centre[cells, slot] = centres[order]
+    radius[cells, slot] = radii[order]
+    return centre.reshape(-1, 3), radius.reshape(-1)

@@ -135,9 +135,21 @@ class Model(_Replace):
         servo_names, servo_dof (n_servo,), servo_kind (n_servo,) ServoKind.
         limit_dof (n_limit,), jspring_dof (n_jspring,), spring_names,
         spring_body1/spring_body2 (n_spring,).
+        tether_names, tether_body (n_tether,): body of each tether (``Builder.add_tether``).
         csphere_body (n_csphere,) body of each contact sphere.
         pair_sphere (n_pair,) contact sphere, pair_other (n_pair,) plane index or second
         contact sphere, pair_is_sphere (n_pair,) bool, pair_material (n_pair,) material.
+        pair_dir_sphere (n_pair,) the pair's contact sphere with a friction direction,
+        pair_dir_sign (n_pair,) +1 if that sphere is the pair's body b, -1 if body a, 0 if
+        the pair's friction is isotropic (``directional``: any pair is not).
+        field_name: name of the model's static sphere field ("" without one,
+            ``Builder.add_sphere_field``); field_query (n_query,) the contact spheres that
+            collide with it; field_k: field spheres each of them checks per step (its K
+            nearest candidates); field_grid (nx, ny, capacity): the field's uniform x-y
+            grid, border cells included; field_material (n_query,) material of each
+            query sphere's field contacts; field_dir_sign (n_query,) 1 where the query
+            sphere has a friction direction. A field adds ``n_query * field_k`` contacts
+            after the listed pairs (``n_field_pair``; ``n_contact`` counts both).
         torsional: whether contacts carry a torsional-friction row.
         toi_correction: whether a body's position is corrected for the time of impact of
             its sphere-plane contacts (``step.toi_correction``; off by default).
@@ -172,10 +184,22 @@ class Model(_Replace):
         jspring_k [N m/rad or N/m], jspring_c [N m s/rad or N s/m], jspring_rest (n_jspring,).
         spring_anchor1/2 (n_spring, 3) body frames [m], spring_k [N/m], spring_c [N s/m],
         spring_rest [m] (n_spring,).
-        csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m].
+        tether_anchor (n_tether, 3) body frame [m], tether_rail_point (n_tether, 3) world
+        [m], tether_rail_dir (n_tether, 3) unit world rail direction, tether_k [N/m],
+        tether_c [N s/m], tether_slack [m] (n_tether,).
+        csphere_radius (n_csphere,) [m], csphere_offset (n_csphere, 3) body frame [m],
+        csphere_direction (n_csphere, 3) unit friction direction, body frame (zero for
+        isotropic spheres).
         plane_normal (n_plane, 3) unit, plane_offset (n_plane,) [m]: plane n.x = offset.
+        field_centre (nx * ny * capacity, 3) world centres of the field's spheres, cell by
+        cell (``capacity`` slots per cell; empty slots far below the floor with radius 0),
+        field_radius (nx * ny * capacity,) [m], field_origin (2,) world x-y of the grid's
+        corner [m], field_cell () grid cell edge [m] (``thesis.physics.terrain.set_field``
+        packs a layout into them).
         material_friction, material_restitution, material_hz, material_zeta,
-        material_torsional [m] (n_material,).
+        material_torsional [m], material_friction_forward, material_friction_backward
+        (n_material,) (directional spheres sliding forward / backward; see
+        ``Builder.add_contact_sphere``).
         geom_size (G, 3), geom_pos (G, 3), geom_rot (G, 3, 3), geom_color (G, 3),
         textures (T, h, w, 3).
         camera_pos (C, 3), camera_rot (C, 3, 3), camera_focal (C,) [m], camera_sensor (C, 2) [m].
@@ -186,9 +210,11 @@ class Model(_Replace):
         "joint_names", "joint_type", "joint_body1", "joint_body2", "joint_row_mask",
         "dof_names", "dof_joint", "dof_kind", "dof_slot",
         "servo_names", "servo_dof", "servo_kind", "limit_dof", "jspring_dof",
-        "spring_names", "spring_body1", "spring_body2",
+        "spring_names", "spring_body1", "spring_body2", "tether_names", "tether_body",
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
-        "torsional", "toi_correction", "material_names", "plane_names",
+        "pair_dir_sphere", "pair_dir_sign",
+        "field_name", "field_query", "field_k", "field_grid", "field_material",
+        "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched",
     )
@@ -215,11 +241,21 @@ class Model(_Replace):
     spring_names: tuple
     spring_body1: np.ndarray
     spring_body2: np.ndarray
+    tether_names: tuple
+    tether_body: np.ndarray
     csphere_body: np.ndarray
     pair_sphere: np.ndarray
     pair_other: np.ndarray
     pair_is_sphere: np.ndarray
     pair_material: np.ndarray
+    pair_dir_sphere: np.ndarray
+    pair_dir_sign: np.ndarray
+    field_name: str
+    field_query: np.ndarray
+    field_k: int
+    field_grid: tuple
+    field_material: np.ndarray
+    field_dir_sign: np.ndarray
     torsional: bool
     toi_correction: bool
     material_names: tuple
@@ -265,15 +301,28 @@ class Model(_Replace):
     spring_k: Any
     spring_c: Any
     spring_rest: Any
+    tether_anchor: Any
+    tether_rail_point: Any
+    tether_rail_dir: Any
+    tether_k: Any
+    tether_c: Any
+    tether_slack: Any
     csphere_radius: Any
     csphere_offset: Any
+    csphere_direction: Any
     plane_normal: Any
     plane_offset: Any
+    field_centre: Any
+    field_radius: Any
+    field_origin: Any
+    field_cell: Any
     material_friction: Any
     material_restitution: Any
     material_hz: Any
     material_zeta: Any
     material_torsional: Any
+    material_friction_forward: Any
+    material_friction_backward: Any
     geom_size: Any
     geom_pos: Any
     geom_rot: Any
@@ -306,6 +355,39 @@ class Model(_Replace):
         return int(self.pair_sphere.shape[0])
 
     @property
+    def n_field_pair(self) -> int:
+        """Contacts with the sphere field: ``field_k`` per query sphere."""
+        return int(self.field_query.shape[0]) * int(self.field_k)
+
+    @property
+    def n_contact(self) -> int:
+        """All contacts: the listed pairs, then the field's."""
+        return self.n_pair + self.n_field_pair
+
+    @property
+    def contact_material(self) -> np.ndarray:
+        """(n_contact,) material of every contact (static)."""
+        return np.concatenate([self.pair_material,
+                               np.repeat(self.field_material, self.field_k)]).astype(np.int32)
+
+    @property
+    def contact_dir_sphere(self) -> np.ndarray:
+        """(n_contact,) the contact's sphere with a friction direction (see pair_dir_*)."""
+        return np.concatenate([self.pair_dir_sphere,
+                               np.repeat(self.field_query, self.field_k)]).astype(np.int32)
+
+    @property
+    def contact_dir_sign(self) -> np.ndarray:
+        """(n_contact,) +1 / -1 / 0 as ``pair_dir_sign``; a query sphere is body b."""
+        return np.concatenate([self.pair_dir_sign,
+                               np.repeat(self.field_dir_sign, self.field_k)]).astype(np.int32)
+
+    @property
+    def directional(self) -> bool:
+        """Whether any contact has directional friction (a static branch of the step)."""
+        return bool(np.any(self.contact_dir_sign != 0))
+
+    @property
     def rows_per_contact(self) -> int:
         return 4 if self.torsional else 3
 
@@ -313,7 +395,8 @@ class Model(_Replace):
     def n_rows(self) -> int:
         """Number of scalar (non-joint-block) constraint rows."""
         return (self.n_servo + int(self.limit_dof.shape[0]) + int(self.jspring_dof.shape[0])
-                + len(self.spring_names) + self.n_pair * self.rows_per_contact)
+                + len(self.spring_names) + len(self.tether_names)
+                + self.n_contact * self.rows_per_contact)
 
     def body(self, name: str) -> int:
         """Index of the body called ``name``."""
@@ -342,6 +425,10 @@ class State(_Replace):
         joint_impulse: (n_joint, 6) last step's joint-row impulses (warm start) [N s].
         row_impulse: (n_rows,) last step's scalar-row impulses [N s or N m s].
         time: () simulated time [s].
+        field_id: (n_field_pair,) which field sphere (slot index into ``field_centre``)
+            each field contact held in the last step, stored as a float so that a State
+            stays a tree of float leaves (``jax.grad`` over a State); it carries each
+            field contact's warm start over to the same field sphere (``step``).
     """
 
     _STATIC = ()
@@ -354,3 +441,4 @@ class State(_Replace):
     joint_impulse: Any
     row_impulse: Any
     time: Any
+    field_id: Any

@@ -56,7 +56,10 @@ its reason; nothing is fitted to a result of the thesis):
   pose) made the engine diverge to NaN within 0.1 s, at 2.5 ms the same gaits walk.
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
   0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
-  lower corners catch a fall.
+  lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
+  (``friction``, ``restitution``), which every contact sphere uses: a terrain changes it
+  with :func:`thesis.physics.terrain.set_material` and tilts gravity with
+  :func:`thesis.physics.terrain.incline`, both without recompiling.
 * **Camera** (§3.2.1): the Wii remote IR camera, 1024 x 768 pixels, looking forward from
   the front of the trunk; a 33 x 25 deg field of view (the commonly quoted horizontal
   33 deg of that module; square pixels give the vertical). Focal length 1 mm and sensor
@@ -127,9 +130,11 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             knee_torque=4.0, scapula_torque=2.0, hip_velocity=12.0, knee_velocity=12.0,
             scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
-            drum_size=0.2,
-            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32):
-    """Build the Oncilla on a flat floor; returns ``(Model, State)``.
+            drum_size=0.2, field=None,
+            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32,
+            tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
+            tether_damping=0.0):
+    """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
         dt: physics step [s] (commands stay at 10 ms, see module docstring).
@@ -140,6 +145,23 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         link_stiffness [N/m], link_damping [N s/m]: the pantograph's parallel link.
         drum_size: edge [m] of the invisible knee-drum box whose inertia stands for the
             reflected rotor inertia of the knee motor.
+        tether_rail_height: None (default, no tether) or the height [m] of an overhead
+            rail along the treadmill's axis (world x, above y = 0) with the safety thread
+            of §4.5 from the robot's head (the trunk's front top edge) to a carriage
+            sliding freely on it (``Builder.add_tether``): a tension-only spring of
+            ``tether_stiffness`` [N/m] and ``tether_damping`` [N s/m], slack while the head
+            is within ``tether_slack`` [m] of the rail. Its leaves (``tether_k`` ...) may
+            be changed without recompiling; a slack longer than the robot can stray
+            removes it (zero stiffness is not allowed by the engine's spring row).
+        field: optional static sphere field on the floor (pebbles, §4.6): a dict of
+            :meth:`thesis.physics.Builder.add_sphere_field` arguments (``centres``,
+            ``radii``, optional ``k``, ``capacity``, ``bounds``, ``cell_size``,
+            ``material`` (default ``"floor"``)); its ``spheres`` may be ``"toes"`` (the
+            default: the four toe spheres, which carry the robot), ``"all"`` (the trunk
+            bumpers too, which touch the ground only when the robot has fallen; with K = 2
+            that is 16 field contacts instead of 8, and the cell grows to the bumpers'
+            reach) or contact-sphere indices. Without it the model is the one every
+            chapter used before the option.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
     geom = geom or L.oncilla_geometry()
@@ -147,7 +169,10 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation,
                 restitution=restitution, contact_slop=0.001)
-    b.add_plane("floor", (0, 0, 1), 0.0, color=(0.3, 0.3, 0.3))
+    # the floor's own material (same values as the builder's default, which the bumpers
+    # and toes used before), so a terrain can change it: terrain.set_material("floor")
+    b.add_material("floor", friction, restitution, 0.25 / float(dt), 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)
     z_trunk = BUILD_DEPTH + TOE_RADIUS - HIPS[0][2]
     b.add_box("trunk", TRUNK, (0, 0, z_trunk), mass=MASS - 4 * m_leg, color=(0.2, 0.4, 0.8))
@@ -155,6 +180,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
         b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
     femur, tibia, foot = geom.femur, geom.tibia, geom.foot
+    toes = []
     for leg, side, (hx, hy, hz) in zip(L.LEGS, L.SIDES, HIPS):
         hip = np.array([hx, hy, z_trunk + hz])
         knee = hip + femur * _u(hip0)
@@ -182,7 +208,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         b.add_hinge(f"{leg}_heel", f"{leg}_tibia", f"{leg}_foot", heel, (0, -1, 0))
         b.add_spring(f"{leg}_link", f"{leg}_femur", f"{leg}_foot", hip, top, link_stiffness,
                      link_damping)
-        b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS, (0, 0, -(femur + foot) / 2))
+        toes.append(b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS,
+                                         (0, 0, -(femur + foot) / 2)))
         b.add_position_servo(f"{leg}_shoulder", servo_gain, scapula_torque, scapula_velocity,
                              axis_index=0, name=f"{leg}_scapula")
         b.add_position_servo(f"{leg}_shoulder", servo_gain, hip_torque, hip_velocity,
@@ -194,8 +221,27 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
     b.add_camera("onboard", "trunk", (lx, 0.0, 0.0), cam_rot, 1e-3, (fw, 0.75 * fw),
                  camera_pixels)
+    if tether_rail_height is not None:
+        b.add_tether("thread", "trunk", (lx, 0.0, z_trunk + lz), (0.0, 0.0, tether_rail_height),
+                     (1.0, 0.0, 0.0), tether_stiffness, tether_damping, tether_slack)
+    if field is not None:
+        kw = dict(field)
+        spheres = kw.pop("spheres", "toes")
+        spheres = {"all": None, "toes": toes}.get(spheres, spheres) \
+            if isinstance(spheres, str) else spheres
+        if isinstance(spheres, str):
+            raise ValueError(f"oncilla field spheres must be 'all', 'toes' or indices, "
+                             f"got {spheres!r}")
+        kw.setdefault("material", "floor")
+        b.add_sphere_field(kw.pop("name", "field"), kw.pop("centres"), kw.pop("radii"),
+                           spheres=spheres, **kw)
     model, state = b.build(dtype)
     return model, state
+
+
+def toe_spheres() -> tuple:
+    """Contact-sphere indices of the four toes (LEGS order); 0-3 are the trunk bumpers."""
+    return (4, 5, 6, 7)
 
 
 def build_offsets(geom: L.LegGeometry | None = None) -> np.ndarray:

@@ -1,0 +1,156 @@
+"""Chapter 4's conditions as model leaves, the speed-only fitness and the treadmill order
+(no simulation)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from thesis.config import load_config
+from thesis.gaits import conditions as C
+from thesis.gaits import runner as R
+from thesis.gaits import transfer_runs as TR
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    return load_config("smoke")["ch4"]
+
+
+def test_slopes_rotate_gravity_uphill_forward(cfg):
+    flat, _ = C.condition_model(cfg, "flat")
+    for grade, deg in ((9, 5.14), (18, 10.2)):
+        m, _ = C.condition_model(cfg, C.grade_name(grade))
+        g = np.asarray(m.gravity, float)
+        assert np.linalg.norm(g) == pytest.approx(np.linalg.norm(np.asarray(flat.gravity)), 1e-6)
+        assert math.degrees(math.atan2(-g[0], -g[2])) == pytest.approx(deg, abs=0.01)
+        assert g[0] < 0 and g[1] == 0  # a robot walking along +x climbs
+    assert C.condition_names(cfg) == ("grade9", "grade18", "compliant", "pebbly")
+
+
+def test_soft_front_legs_halve_only_the_front_knee_springs(cfg):
+    flat, _ = C.condition_model(cfg, "flat")
+    soft, _ = C.condition_model(cfg, "compliant")
+    k0, k1 = np.asarray(flat.jspring_k), np.asarray(soft.jspring_k)
+    idx = C.front_spring_index(flat)
+    names = [flat.dof_names[int(d)] for d in flat.jspring_dof]
+    assert [names[i].split(":")[0] for i in idx] == ["LF_cable", "RF_cable"]
+    np.testing.assert_allclose(k1[idx], 0.5 * k0[idx])
+    rest = np.setdiff1d(np.arange(k0.size), idx)
+    np.testing.assert_array_equal(k1[rest], k0[rest])
+    with pytest.raises(ValueError, match="unknown ch4 condition"):
+        C.condition_model(cfg, "grade30")
+
+
+def test_every_condition_has_the_safety_thread_and_untethered_never_pulls(cfg):
+    m, _ = C.condition_model(cfg, "grade18")
+    assert m.tether_names == ("thread",)
+    assert float(m.tether_slack[0]) == pytest.approx(cfg["tether"]["slack"], rel=1e-6)
+    bare = C.untethered(m)
+    assert float(bare.tether_slack[0]) >= 100.0
+    np.testing.assert_array_equal(np.asarray(bare.tether_k), np.asarray(m.tether_k))
+
+
+def _sim(z, up, x, dt=0.01):
+    """A fake simulate() result: trunk height z, up-vector z-component up, position x."""
+    model, _ = C.base_model(load_config("smoke")["ch4"])
+    trunk = R.O.trunk_index(model)
+    B, K = z.shape
+    pos = np.zeros((B, K, model.n_body, 3))
+    pos[:, :, :, 2] = 0.15
+    pos[:, :, trunk, 0] = x
+    pos[:, :, trunk, 2] = z
+    rot = np.broadcast_to(np.eye(3), (B, K, model.n_body, 3, 3)).copy()
+    rot[:, :, trunk, 2, 2] = up
+    return model, dict(pos=pos, rot=rot, t=(np.arange(K) + 1) * dt)
+
+
+def test_speed_terms_speed_falls_and_upright_fraction():
+    K = 100  # 1 s
+    t = (np.arange(K) + 1) * 0.01
+    z = np.full((3, K), 0.15)
+    up = np.ones((3, K))
+    x = np.stack([0.3 * t, 0.3 * t, -0.1 * t])
+    z[1, 60:] = np.linspace(0.15, 0.05, K - 60)  # robot 1 sinks to the floor
+    t_fall = t[np.argmax(z[1] < 0.08)]
+    model, sim = _sim(z, up, x)
+    out = R.speed_terms(model, sim, 0.5, 0.08)
+    assert out["speed"][0] == pytest.approx(0.3, rel=1e-5)
+    assert out["speed"][2] == pytest.approx(-0.1, rel=1e-5)
+    assert list(out["fallen"]) == [False, True, False]
+    assert not out["exploded"].any()
+    assert out["upright"][1] == pytest.approx((t_fall - 0.5) / 0.5, abs=1e-9)
+    assert out["upright"][0] == 1.0 and out["finite"].all()
+    score = TR.score_of(out)
+    assert score[1] == pytest.approx(TR.FALLEN_SCORE + out["upright"][1])
+    assert score[1] < min(score[0], score[2])
+    tilted = up.copy()
+    tilted[0, 90:] = 0.3  # rolled over: tilted more than 60 degrees
+    model, sim = _sim(np.full((3, K), 0.15), tilted, x)
+    assert R.speed_terms(model, sim, 0.5, 0.08)["fallen"][0]
+
+
+def test_speed_terms_flags_non_finite_robots():
+    K = 50
+    z = np.full((2, K), 0.15)
+    model, sim = _sim(z, np.ones((2, K)), np.zeros((2, K)))
+    sim["pos"][1, 10] = np.nan
+    out = R.speed_terms(model, sim, 0.1, 0.08)
+    assert list(out["finite"]) == [True, False] and out["fallen"][1]
+
+
+def test_treadmill_predecessors():
+    pos = np.arange(2 * 3 * 1, dtype=float).reshape(2, 3, 1)
+    prev = TR.treadmill_predecessors(pos)
+    assert prev[..., 0].tolist() == [[0, 0, 1], [2, 3, 4]]
+
+
+def test_heading_turns_the_robot_about_the_vertical(cfg):
+    _, state = C.base_model(cfg)
+    s = R.batch_states(state, 2, heading=np.array([0.0, math.pi / 2]))
+    p0, p1 = np.asarray(s.pos[0]), np.asarray(s.pos[1])
+    np.testing.assert_allclose(p1[:, 0], -p0[:, 1], atol=1e-6)
+    np.testing.assert_allclose(p1[:, 1], p0[:, 0], atol=1e-6)
+    np.testing.assert_allclose(p1[:, 2], p0[:, 2], atol=1e-6)
+    r = np.asarray(s.rot[1])
+    np.testing.assert_allclose(np.einsum("bij,bkj->bik", r, r), np.broadcast_to(np.eye(3), r.shape),
+                               atol=1e-6)
+
+
+def test_pebble_layout_covers_the_strip_with_1cm_pebbles_on_the_floor(cfg):
+    pc = cfg["pebbles"]
+    c, r = C.pebble_layout(cfg, 0)
+    assert r == pytest.approx(0.5 * pc["diameter"])
+    L, W = pc["strip_length"], pc["strip_width"]
+    # expected coverage: footprints over the strip's area
+    assert len(c) * math.pi * r * r / (L * W) == pytest.approx(pc["coverage"], rel=1e-3)
+    assert c[:, 0].min() >= 0 and c[:, 0].max() <= L
+    assert np.abs(c[:, 1]).max() <= W / 2
+    np.testing.assert_allclose(c[:, 2], r)  # resting on the floor
+    np.testing.assert_array_equal(C.pebble_layout(cfg, 0)[0], c)  # one layout per root seed
+    assert not np.array_equal(C.pebble_layout(cfg, 1)[0][:10], c[:10])
+
+
+def test_pebbly_model_has_the_field_and_the_thread(cfg):
+    m, _ = C.condition_model(cfg, "pebbly", 0)
+    assert m.field_name == "pebbles" and m.field_k == cfg["pebbles"]["k"]
+    assert m.tether_names == ("thread",)
+    with pytest.raises(ValueError, match="root seed"):
+        C.condition_model(cfg, "pebbly")
+
+
+def test_start_range_leaves_room_for_the_walk_and_names_a_short_strip(cfg):
+    assert C.start_range(cfg, "flat", 1.0) is None
+    lo, hi = C.start_range(cfg, "pebbly", 4.0)
+    m = cfg["pebbles"]["start_margin"]
+    assert lo == m and hi == pytest.approx(cfg["pebbles"]["strip_length"] - m - 1.5 * 4.0)
+    short = dict(cfg, pebbles=dict(cfg["pebbles"], strip_length=3.0))
+    with pytest.raises(ValueError, match="strip_length"):
+        C.start_range(short, "pebbly", 4.0)
+    s = TR.start_sampler(cfg, 0, "pebbly", 4.0)
+    x0, x1 = s(0, 50), s(1, 50)
+    assert x0.min() >= lo and x0.max() <= hi and not np.array_equal(x0, x1)
+    np.testing.assert_array_equal(s(0, 50), x0)
+    assert TR.start_sampler(cfg, 0, "grade9", 4.0) is None
