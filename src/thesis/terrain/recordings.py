@@ -108,7 +108,7 @@ def trial_table(cfg: dict, rng: np.random.Generator) -> list[dict]:
     for (gait, terrain), counts in TAB5_1.items():
         for f, n in zip(FREQUENCIES, counts):
             n = n if cap is None else min(n, int(cap))
-            lo, hi = lengths.get(terrain, lengths["default"])
+            lo, hi = lengths.get(terrain) or lengths["default"]
             for _ in range(n):
                 out.append(dict(gait=gait, terrain=terrain, frequency=f,
                                 length=int(rng.integers(int(lo), int(hi) + 1))))
