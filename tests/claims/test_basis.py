@@ -24,7 +24,8 @@ def arm_fixed(config: dict | None, *, reached=(80, 120)) -> xr.Dataset:
     d = np.where(ev < reached[0], 0.2, np.where(ev < reached[1], 0.03, 0.005))
     ds = xr.Dataset({"distance": xr.DataArray(np.tile(d, (3, 1)), dims=("seed", "evaluation"),
                                               coords={"seed": [0, 1, 2], "evaluation": ev},
-                                              attrs={"units": "m", "long_name": "distance"})})
+                                              attrs={"units": "m", "long_name": "distance"})},
+                    attrs={"n_params": 17284, "episode_s": 8.0})
     if config is not None:
         ds.attrs["departures"] = json.dumps(departures.records("ch7/arm_fixed", config))
         ds.attrs["config_json"] = json.dumps({"ch7": {"arm_fixed": config["ch7"]["arm_fixed"]}})
