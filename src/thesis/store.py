@@ -34,6 +34,13 @@ PROVENANCE_ATTRS = (
 )
 
 
+#: Attributes of a variable that is a wall-clock measurement (wall seconds, rates per
+#: wall-second, memory): it depends on the machine and its load, so the smoke regression
+#: records it but does not compare it (:mod:`thesis.regression`). Every other variable is
+#: compared, simulated durations included.
+WALL_CLOCK: dict[str, str] = {"measurement": "wall_clock"}
+
+
 class ResultSchemaError(ValueError):
     """A dataset lacks what every result must carry (units, long_name, thesis_ref ...)."""
 

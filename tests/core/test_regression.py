@@ -1,4 +1,4 @@
-"""Regression references: tolerances per variable, machine-dependent values skipped."""
+"""Regression references: tolerances per variable, exactly the wall-clock values skipped."""
 
 from __future__ import annotations
 
@@ -8,14 +8,18 @@ import numpy as np
 import xarray as xr
 
 from thesis import regression
+from thesis.store import WALL_CLOCK
 
 
-def _ds(err=(0.1, 0.2), secs=(1.0, 2.0)):
+def _ds(err=(0.1, 0.2), secs=(1.0, 2.0), sim=(3.0, 4.0)):
     return xr.Dataset(
         {"test_error": xr.DataArray(np.array(err), dims="seed",
                                     attrs={"units": "1", "long_name": "error"}),
          "wall_seconds": xr.DataArray(np.array(secs), dims="seed",
-                                      attrs={"units": "s", "long_name": "time"})},
+                                      attrs={"units": "s", "long_name": "time",
+                                             **WALL_CLOCK}),
+         "time_to_up_s": xr.DataArray(np.array(sim), dims="seed",
+                                      attrs={"units": "s", "long_name": "simulated time"})},
         coords={"seed": [0, 1]}, attrs={"thesis_ref": "Tab. 2.2"})
 
 
@@ -49,11 +53,41 @@ def test_missing_and_new_variables_and_shape_changes_are_reported():
     assert any("'error' is new" in p for p in problems)
 
 
-def test_per_variable_override():
+def test_simulated_seconds_are_compared_like_any_number():
+    ref = regression.to_reference(_ds())
+    assert ref["variables"]["time_to_up_s"]["compare"] is True
+    problems = regression.compare(_ds(sim=(3.0, 4.5)), ref)
+    assert len(problems) == 1 and "time_to_up_s" in problems[0]
+
+
+def test_skipping_follows_the_marker_not_units_or_names():
     ds = _ds()
-    ds["test_error"].attrs["regression_rtol"] = 0.5
+    ds["wall_seconds"].attrs.pop("measurement")  # a name and unit that look like wall time
     ref = regression.to_reference(ds)
-    assert regression.compare(_ds(err=(0.1, 0.25)), ref) == []
+    assert ref["variables"]["wall_seconds"]["compare"] is True
+    changed = _ds(secs=(50.0, 60.0))
+    changed["wall_seconds"].attrs.pop("measurement")
+    assert any("wall_seconds" in p for p in regression.compare(changed, ref))
+    assert not regression.is_wall_clock(ds["wall_seconds"])
+    assert regression.is_wall_clock(_ds()["wall_seconds"])
+
+
+def test_stale_reference_policy_is_reported():
+    ref = regression.to_reference(_ds())
+    ref["variables"]["time_to_up_s"]["compare"] = False  # as recorded before the marker
+    problems = regression.compare(_ds(sim=(3.0, 4.5)), ref)
+    assert any("stale reference" in p for p in problems)
+    assert any("differs beyond" in p and "time_to_up_s" in p for p in problems)
+
+
+def test_per_variable_override():
+    def widened(**kw):
+        ds = _ds(**kw)
+        ds["test_error"].attrs["regression_rtol"] = 0.5
+        return ds
+    ref = regression.to_reference(widened())
+    assert regression.compare(widened(err=(0.1, 0.25)), ref) == []
+    assert regression.compare(widened(err=(0.1, 0.35)), ref) != []
 
 
 def test_write_references_reports_changes(tmp_path):

@@ -37,6 +37,7 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.runctx import RunContext
+from thesis.store import WALL_CLOCK
 
 MODELS = ("ffn_spn", "rnn_spn")
 
@@ -179,7 +180,8 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                            "epoch of the lowest validation error (1-based)",
                            "regression_atol": 1.0}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
-                              "wall time of the training run, compilation included"}),
+                              "wall time of the training run, compilation included",
+                              **WALL_CLOCK}),
             "n_params": (("d", "transform"), nparams, {"units": "1", "long_name":
                          "number of trainable parameters"}),
         },
@@ -358,15 +360,16 @@ def chirpz_scaling(ctx: RunContext) -> xr.Dataset:
     ds = xr.Dataset(
         {
             "seconds": (dims, med, {"units": "s", "long_name":
-                        f"median wall time per call for a batch of {batch} images"}),
+                        f"median wall time per call for a batch of {batch} images",
+                        **WALL_CLOCK}),
             "seconds_runs": (dims + ("repeat",), times, {"units": "s", "long_name":
-                             "wall time of every timed call"}),
-            # fitted to wall times, so machine-dependent: recorded, not regressed
+                             "wall time of every timed call", **WALL_CLOCK}),
+            # fitted to wall times: wall-clock measurements themselves
             "exponent_n2logn": (("layer", "pass"), expo, {"units": "1", "long_name":
                                 "least-squares exponent b of t = c (n^2 log n)^b",
-                                "regression_compare": 0}),
+                                **WALL_CLOCK}),
             "exponent_n": (("layer", "pass"), expo_n, {"units": "1", "long_name":
-                           "least-squares exponent of t = c n^b", "regression_compare": 0}),
+                           "least-squares exponent of t = c n^b", **WALL_CLOCK}),
         },
         coords={"layer": list(layers), "pass": ["forward", "forward_backward"],
                 "size": sizes, "repeat": np.arange(repeats)},

@@ -36,6 +36,7 @@ from thesis.optim import cmaes
 from thesis.physics import rollout
 from thesis.physics.math import safe_norm
 from thesis.physics.models import arm4
+from thesis.store import WALL_CLOCK
 
 __all__ = ["build", "servo_attrs", "episode_fn", "sample_targets", "arm_fixed", "arm_random",
            "cm_name"]
@@ -218,7 +219,8 @@ def arm_fixed(ctx) -> xr.Dataset:
             "units": "m", "long_name": "objective: end-effector distance averaged over "
             "every time step"}),
         "wall_seconds": (dims, np.array([res[m]["wall"] for m in methods]), {
-            "units": "s", "long_name": "wall time of the optimisation after compilation"}),
+            "units": "s", "long_name": "wall time of the optimisation after compilation",
+            **WALL_CLOCK}),
     }
     for thr in cfg["thresholds_m"]:
         name = cm_name(thr)
@@ -340,7 +342,8 @@ def arm_random(ctx) -> xr.Dataset:
             "units": "m", "long_name": "batch mean of the time-averaged end-effector "
             "distance (the objective) before each update"}),
         "wall_seconds": (("seed",), np.array(walls), {
-            "units": "s", "long_name": "wall time of training after compilation"}),
+            "units": "s", "long_name": "wall time of training after compilation",
+            **WALL_CLOCK}),
     }
     for thr in cfg["thresholds_m"]:
         name = cm_name(thr)
