@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -96,3 +97,47 @@ def test_write_references_reports_changes(tmp_path):
     lines = regression.write_references({"ch2/table2_2": _ds(err=(0.3, 0.2))}, tmp_path)
     assert any("test_error" in line for line in lines)
     assert (tmp_path / "ch2" / "table2_2.json").exists()
+
+
+REFERENCES = Path(__file__).resolve().parents[1] / "regression" / "smoke"
+
+
+def _numeric(values):
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return a[np.isfinite(a)]
+
+
+def test_committed_tolerances_are_narrower_than_the_spread_of_their_quantity():
+    """A tolerance of its own (wider than the rounding guard) must not cover every value
+    the quantity takes in its reference, or the comparison checks nothing."""
+    files = sorted(REFERENCES.glob("*/*.json"))
+    assert files, REFERENCES
+    widened = 0
+    for path in files:
+        for name, spec in json.loads(path.read_text())["variables"].items():
+            default = (spec["rtol"], spec["atol"]) == (regression.DEFAULT_RTOL,
+                                                       regression.DEFAULT_ATOL)
+            if not spec["compare"] or default:
+                continue
+            widened += 1
+            v = _numeric(spec["values"])
+            assert v is not None and v.size > 1, f"{path.name}:{name} has no spread"
+            band = spec["atol"] + spec["rtol"] * np.abs(v).max()
+            spread = v.max() - v.min()
+            assert band < spread, f"{path.name}:{name}: tolerance {band:.3g} >= spread {spread:.3g}"
+    assert widened >= 1  # ch2's error rates carry their own tolerance
+
+
+def test_committed_references_skip_only_wall_clock_like_variables():
+    """Every skipped reference variable is one the code marks as wall-clock: the names
+    here are the marked ones (a new skip must be a new marked measurement)."""
+    marked = {"seconds", "seconds_runs", "exponent_n2logn", "exponent_n", "train_seconds",
+              "wall_seconds", "trot_wall_seconds", "robot_seconds_per_wall_second",
+              "compile_seconds", "ms_per_robot_step", "peak_memory_bytes"}
+    for path in sorted(REFERENCES.glob("*/*.json")):
+        for name, spec in json.loads(path.read_text())["variables"].items():
+            if not spec["compare"]:
+                assert name in marked, f"{path.parent.name}/{path.name}: {name} skipped"

@@ -107,11 +107,14 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
 
 
 #: Smoke-regression tolerance of the error rates (``thesis.regression``): XLA's convolutions
-#: round differently on different CPUs, and a few test digits flip. Measured on the smoke
-#: profile, an AVX2 against an AVX-512 machine (Nov 2026, also with ``jax.max_isa``
-#: AVX2): test error by up to 0.027 (8 of 300 digits), validation error by 0.02, best
-#: epoch by 1, while the training loss agrees to 4e-4 relative and stays the tight guard.
-_COUNT_TOLERANCE = {"regression_atol": 0.06}
+#: round differently on different CPUs (AVX2 against AVX-512, also with ``jax.max_isa``),
+#: and a few test digits flip: up to 8 of the smoke profile's 300 test digits (0.027),
+#: 0.02 in validation error, while the training loss agrees to 4e-4 relative and stays the
+#: tight guard. The tolerance covers those flips and no more; it must stay below the spread
+#: of the error rates over the grid (``tests/core/test_regression.py``). The best epoch
+#: follows the validation curve and is compared exactly: a flipped best epoch selects other
+#: parameters, a changed result.
+_COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
 def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
@@ -177,8 +180,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
             "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
                               "learning rate used in the epoch"}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
-                           "epoch of the lowest validation error (1-based)",
-                           "regression_atol": 1.0}),
+                           "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
                               "wall time of the training run, compilation included",
                               **WALL_CLOCK}),
