@@ -141,3 +141,22 @@ def test_committed_references_skip_only_wall_clock_like_variables():
         for name, spec in json.loads(path.read_text())["variables"].items():
             if not spec["compare"]:
                 assert name in marked, f"{path.parent.name}/{path.name}: {name} skipped"
+
+
+#: Per-digit error of a classifier that learned nothing (10 classes) and the bound the
+#: smoke profile's Tab. 2.2 cells must stay under: the smoke is sized so that a working
+#: model is clearly better than chance (config/smoke.yaml, ch2).
+CH2_CHANCE_ERROR = 0.9
+CH2_SMOKE_MAX_ERROR = 0.8
+
+
+def test_ch2_smoke_reference_is_clearly_better_than_chance():
+    """Every cell of the committed smoke Tab. 2.2 learned: a reference rewritten from models
+    that learned nothing (e.g. shuffled labels, error ~0.9) cannot be committed, and the
+    regression's 0.03 tolerance then tells such a run from the reference."""
+    ref = json.loads((REFERENCES / "ch2" / "table2_2.json").read_text())
+    err = np.asarray(ref["variables"]["test_error"]["values"], dtype=float)
+    assert np.isfinite(err).all()
+    assert err.max() < CH2_SMOKE_MAX_ERROR < CH2_CHANCE_ERROR, err.ravel().tolist()
+    tol = ref["variables"]["test_error"]["atol"]
+    assert CH2_CHANCE_ERROR - err.max() > tol  # a chance-level run differs beyond tolerance
