@@ -19,7 +19,7 @@ import sys
 import time
 from pathlib import Path
 
-from thesis import registry, store
+from thesis import departures, registry, store
 from thesis.config import PROFILES, load_config
 from thesis.errors import ConfigError, SimulationDiverged
 from thesis.runctx import RunContext
@@ -106,7 +106,7 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
         return out
     store.write_dataset(ds, out, profile=profile, experiment=key,
                         config_slice=config_slice(config, key), started=started,
-                        wall_seconds=wall)
+                        wall_seconds=wall, departures=departures.records(key, config))
     log.info("%s wrote %s in %.1f s", key, out, wall)
     return out
 
@@ -135,12 +135,13 @@ def _cmd_check(args) -> int:
     verdicts = evaluate_all(results, config=config) if _takes_config(evaluate_all) \
         else evaluate_all(results)
     out = Path(args.output or Path(args.results) / args.profile / "claims.json")
-    payload = {"profile": args.profile, "n_results": len(results), "claims": verdicts}
-    with store.atomic_path(out) as tmp:
-        tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     counts: dict[str, int] = {}
     for v in verdicts:
-        counts[v["status"]] = counts.get(v["status"], 0) + 1
+        counts[v["reading"]] = counts.get(v["reading"], 0) + 1
+    payload = {"profile": args.profile, "n_results": len(results), "readings": counts,
+               "claims": verdicts}
+    with store.atomic_path(out) as tmp:
+        tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     log.info("claims: %s -> %s", counts, out)
     return 0
 

@@ -1,10 +1,16 @@
 """Regression of the smoke profile's numbers against committed references.
 
 A reference is ``tests/regression/smoke/<chapter>/<artifact>.json``: per data variable
-its dims, coords, values and a tolerance (``rtol``, ``atol``) or ``compare: false`` for
-quantities that depend on the machine (wall times, memory). Defaults come from
-:func:`default_tolerance`; a variable may override them with the attributes
-``regression_rtol``, ``regression_atol`` or ``regression_compare`` (0/1).
+its dims, coords, values and a tolerance (``rtol``, ``atol``). Exactly the variables the
+dataset marks as wall-clock measurements (attribute ``measurement="wall_clock"``,
+:data:`thesis.store.WALL_CLOCK`: wall seconds, rates per wall-second, memory) are
+recorded with ``compare: false`` and skipped; nothing is guessed from units or names, so
+a simulated duration in seconds is compared like any other number. The policy is read
+from the result's attributes at comparison time (the reference records it too, and a
+difference is reported as a stale reference). Tolerances default to
+``rtol=1e-3, atol=1e-6``; a variable may set its own with the attributes
+``regression_rtol`` and ``regression_atol``, which must stay below the quantity's spread
+(``tests/core/test_regression.py`` checks the committed references).
 
 ``make update-reference`` rewrites the references from ``results/smoke`` on purpose and
 prints what changed.
@@ -18,21 +24,21 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-MACHINE_DEPENDENT_UNITS = {"s", "ms", "bytes", "B", "seconds", "1/s", "s-1"}
-MACHINE_DEPENDENT_WORDS = ("seconds", "time", "memory", "bytes", "ms_per", "per_wall")
+DEFAULT_RTOL = 1e-3
+DEFAULT_ATOL = 1e-6
+
+
+def is_wall_clock(var: xr.DataArray) -> bool:
+    """Whether a variable is marked as a wall-clock measurement."""
+    return str(var.attrs.get("measurement", "")) == "wall_clock"
 
 
 def default_tolerance(name: str, var: xr.DataArray) -> dict:
-    """Tolerance of one variable: machine-dependent ones are recorded but not compared."""
-    units = str(var.attrs.get("units", ""))
-    compare = int(var.attrs.get("regression_compare",
-                                0 if (units in MACHINE_DEPENDENT_UNITS
-                                      or any(w in name for w in MACHINE_DEPENDENT_WORDS))
-                                else 1))
+    """Tolerance of one variable; wall-clock measurements are recorded but not compared."""
     return {
-        "compare": bool(compare),
-        "rtol": float(var.attrs.get("regression_rtol", 1e-3)),
-        "atol": float(var.attrs.get("regression_atol", 1e-6)),
+        "compare": not is_wall_clock(var),
+        "rtol": float(var.attrs.get("regression_rtol", DEFAULT_RTOL)),
+        "atol": float(var.attrs.get("regression_atol", DEFAULT_ATOL)),
     }
 
 
@@ -58,7 +64,14 @@ def to_reference(ds: xr.Dataset) -> dict:
 
 
 def compare(ds: xr.Dataset, ref: dict) -> list[str]:
-    """Differences between a result and its reference (empty list: they agree)."""
+    """Differences between a result and its reference (empty list: they agree).
+
+    Whether a variable is compared, and how closely, is decided by the result's own
+    attributes (:func:`default_tolerance`): a variable is skipped exactly when the result
+    marks it ``measurement="wall_clock"``. The reference supplies the values; a reference
+    whose recorded policy differs from the result's is reported as stale, so that a
+    changed tolerance is rewritten on purpose (``make update-reference``).
+    """
     problems = []
     for name, c in ref["coords"].items():
         if name not in ds.coords:
@@ -75,20 +88,25 @@ def compare(ds: xr.Dataset, ref: dict) -> list[str]:
         if list(var.dims) != spec["dims"]:
             problems.append(f"variable {name!r} dims {list(var.dims)} != {spec['dims']}")
             continue
-        if not spec.get("compare", True):
+        policy = default_tolerance(name, var)
+        recorded = {k: spec.get(k) for k in policy}
+        if recorded != policy:
+            problems.append(f"variable {name!r}: the reference records {recorded}, the "
+                            f"result asks for {policy} (stale reference)")
+        if not policy["compare"]:
             continue
         got = np.asarray(_jsonable(var.values), dtype=object)
         want = np.asarray(spec["values"], dtype=object)
         if got.shape != want.shape:
             problems.append(f"variable {name!r} shape {got.shape} != {want.shape}")
             continue
-        if not _close(var.values, spec["values"], spec["rtol"], spec["atol"]):
+        if not _close(var.values, spec["values"], policy["rtol"], policy["atol"]):
             a = np.asarray(var.values, dtype=float)
             b = np.asarray(spec["values"], dtype=float)
             with np.errstate(invalid="ignore"):
                 err = np.nanmax(np.abs(a - b)) if a.size else 0.0
-            problems.append(f"variable {name!r} differs beyond rtol={spec['rtol']}, "
-                            f"atol={spec['atol']} (max abs diff {err:.4g})")
+            problems.append(f"variable {name!r} differs beyond rtol={policy['rtol']}, "
+                            f"atol={policy['atol']} (max abs diff {err:.4g})")
     for name in ds.data_vars:
         if name not in ref["variables"]:
             problems.append(f"variable {name!r} is new (not in the reference)")

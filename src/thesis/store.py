@@ -30,8 +30,15 @@ PROVENANCE_ATTRS = (
     "thesis_ref", "profile", "experiment", "config_sha256", "config_json", "git_commit",
     "git_dirty", "seeds", "python_version", "jax_version", "jaxlib_version",
     "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "started",
-    "wall_seconds",
+    "wall_seconds", "departures",
 )
+
+
+#: Attributes of a variable that is a wall-clock measurement (wall seconds, rates per
+#: wall-second, memory): it depends on the machine and its load, so the smoke regression
+#: records it but does not compare it (:mod:`thesis.regression`). Every other variable is
+#: compared, simulated durations included.
+WALL_CLOCK: dict[str, str] = {"measurement": "wall_clock"}
 
 
 class ResultSchemaError(ValueError):
@@ -121,7 +128,8 @@ def provenance_attrs(*, profile: str, experiment: str, config_slice: Any,
 
 def write_dataset(ds: xr.Dataset, path: str | Path, *, profile: str, experiment: str,
                   config_slice: Any, started: datetime, wall_seconds: float,
-                  seeds: Sequence[int] | None = None) -> Path:
+                  seeds: Sequence[int] | None = None,
+                  departures: Sequence[dict] = ()) -> Path:
     """Check ``ds``, stamp provenance onto a copy, and write it atomically.
 
     Args:
@@ -135,6 +143,9 @@ def write_dataset(ds: xr.Dataset, path: str | Path, *, profile: str, experiment:
         started: when the computation started (timezone-aware).
         wall_seconds: wall time of the computation [s].
         seeds: overrides ``ds.attrs["seeds"]``.
+        departures: the declared departures from the thesis this result rests on, with
+            the run's config values (:func:`thesis.departures.records`); stored as the
+            JSON attribute ``departures`` (``[]`` when there are none).
 
     Returns:
         The final path.
@@ -146,6 +157,7 @@ def write_dataset(ds: xr.Dataset, path: str | Path, *, profile: str, experiment:
     out.attrs.update(provenance_attrs(profile=profile, experiment=experiment,
                                       config_slice=config_slice, seeds=seeds,
                                       started=started, wall_seconds=wall_seconds))
+    out.attrs["departures"] = canonical_json(list(departures))
     for name in list(out.variables):
         out[name].attrs = {k: _attr_value(v) for k, v in out[name].attrs.items()}
     path = Path(path)
@@ -191,9 +203,18 @@ def provenance_of(ds: xr.Dataset) -> dict[str, Any]:
         elif isinstance(v, np.generic):
             v = v.item()
         out[k] = v
-    if isinstance(out.get("package_versions"), str):
-        out["package_versions"] = json.loads(out["package_versions"])
+    for k in ("package_versions", "departures"):
+        if isinstance(out.get(k), str):
+            out[k] = json.loads(out[k])
     return out
+
+
+def departures_of(ds: xr.Dataset) -> list[dict] | None:
+    """The departure records stored with a result (``None`` if it predates them)."""
+    raw = ds.attrs.get("departures")
+    if raw is None:
+        return None
+    return json.loads(raw) if isinstance(raw, str) else list(raw)
 
 
 def now() -> datetime:

@@ -21,33 +21,45 @@ def ball(grad_iters=90.0, cma_iters=2400.0, seeds: int = 5) -> xr.Dataset:
 
 
 def table7_1(grad_factor=7.0, growth=1.0, gpu=True, gpu_single=70.0, gpu_batched=1.0,
-             finite=1.0):
+             finite=1.0, batches=(1, 128), sizes=(1296, 1147904), simulated_seconds=10.0):
     devices = ["cpu", "gpu"] if gpu else ["cpu"]
     t = np.empty((len(devices), 2, 2, 2))
     for i, dev in enumerate(devices):
-        for j, batch in enumerate([1, 128]):
+        for j, batch in enumerate(batches):
             for k in range(2):
                 fwd = (1.0 * batch ** 0.9) if dev == "cpu" else (
                     gpu_single if batch == 1 else gpu_batched * batch)
                 fwd = fwd / (grad_factor if dev == "gpu" else 1.0)
                 t[i, j, k] = [fwd, fwd * grad_factor * (growth if k else 1.0)]
     da = xr.DataArray(t, dims=("device", "batch", "n_params", "gradient"),
-                      coords={"device": devices, "batch": [1, 128],
-                              "n_params": [1296, 1147904], "gradient": [0, 1]},
+                      coords={"device": devices, "batch": list(batches),
+                              "n_params": list(sizes), "gradient": [0, 1]},
                       attrs={"units": "s", "long_name": "seconds per 10 model seconds"})
     ok = xr.full_like(da, finite).assign_attrs(units="1", long_name="gradient finite")
     ok.loc[dict(gradient=0)] = np.nan  # no gradient taken
-    return xr.Dataset({"seconds": da, "gradient_finite": ok})
+    return xr.Dataset({"seconds": da, "gradient_finite": ok},
+                      attrs={"simulated_seconds": simulated_seconds})
 
 
 def curve(dim: str, n: int, final: float, start: float, seeds: int = 3, tau: float = 30.0,
-          name: str = "distance", rising: bool = False) -> xr.Dataset:
+          name: str = "distance", rising: bool = False, **attrs) -> xr.Dataset:
     steps = np.arange(1, n + 1)
     c = final + (start - final) * np.exp(-steps / tau)
     c = np.tile(c, (seeds, 1)) * (1 + 0.01 * np.arange(seeds)[:, None])
     da = xr.DataArray(c, dims=("seed", dim), coords={"seed": np.arange(seeds), dim: steps},
                       attrs={"units": "m/s" if rising else "m", "long_name": name})
-    return xr.Dataset({name: da})
+    return xr.Dataset({name: da}, attrs=attrs)
+
+
+#: the thesis's random-target controller size, and the gait's episode and controller
+ARM1_THESIS = {"n_params": 17284, "episode_s": 8.0}
+ARM2_THESIS = {"n_params": 2107396, "batch": 128, "episode_s": 8.0}
+GAIT_THESIS = {"episode_s": 10.0, "n_params": 17952}
+
+
+def gait(final: float, n: int = 600, **attrs) -> xr.Dataset:
+    return curve("evaluation", n, final=final, start=0.0, tau=80.0, name="speed", rising=True,
+                 **{**GAIT_THESIS, **attrs})
 
 
 def check(claim_id: str, **results) -> claims.Verdict:
@@ -75,6 +87,9 @@ def test_table7_1_thesis_like():
 def test_table7_1_contradicting():
     assert check("ch7.gradient_costs_small_factor",
                  table7_1=table7_1(grad_factor=40.0)).status == "not_reproduced"
+    # "roughly a factor 10" is not "any factor below 12.5": a gradient at 1.5x is not it
+    v = check("ch7.gradient_costs_small_factor", table7_1=table7_1(grad_factor=1.5))
+    assert v.status == "not_reproduced" and v.measured["gradient_slowdown_gmean"] < 5
     v = check("ch7.gradient_cost_nearly_independent_of_parameters",
               table7_1=table7_1(growth=3.0))
     assert v.status == "not_reproduced" and v.measured["slowdown_growth_gmean"] > 2.9
@@ -99,6 +114,22 @@ def test_table7_1_timings_of_a_nan_gradient_do_not_count():
     assert v.status == "not_reproduced" and v.measured["n_configurations"] == 1.0
 
 
+def test_table7_1_needs_the_thesis_grid():
+    """A smoke-sized table (4 robots, a small controller, 1 s) cannot test Tab. 7.1."""
+    small = table7_1(batches=(1, 4), sizes=(1296, 10304), simulated_seconds=1.0)
+    for cid in ("ch7.gradient_costs_small_factor",
+                "ch7.gradient_cost_nearly_independent_of_parameters",
+                "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",
+                "ch7.gpu_speeds_up_large_batches"):
+        v = check(cid, table7_1=small)
+        assert v.status == "inconclusive", cid
+        assert "batches [1, 4] of the thesis's [1, 128]" in v.detail
+        assert "1 s simulated per rollout of the thesis's 10 s" in v.detail
+    bare = table7_1()
+    bare.attrs = {}
+    assert "not recorded" in check("ch7.gradient_costs_small_factor", table7_1=bare).detail
+
+
 def test_table7_1_without_gpu():
     ds = table7_1(gpu=False)
     v = check("ch7.batching_accelerates_gpu", table7_1=ds)
@@ -110,37 +141,69 @@ def test_table7_1_without_gpu():
 
 
 def test_arm_budgets():
-    fast = curve("evaluation", 300, final=0.002, start=0.5)
+    fast = curve("evaluation", 300, final=0.002, start=0.5, **ARM1_THESIS)
     assert check("ch7.arm_fixed_point_learned_quickly", arm_fixed=fast).status == "reproduced"
-    stuck = curve("evaluation", 400, final=0.05, start=0.5)
+    small = curve("evaluation", 300, final=0.002, start=0.5, n_params=1252, episode_s=1.0)
+    v = check("ch7.arm_fixed_point_learned_quickly", arm_fixed=small)
+    assert v.status == "inconclusive" and "episode_s 1 of the thesis's 8" in v.detail
+    stuck = curve("evaluation", 400, final=0.05, start=0.5, **ARM1_THESIS)
     v = check("ch7.arm_fixed_point_learned_quickly", arm_fixed=stuck)
     assert v.status == "not_reproduced"
-    short = curve("evaluation", 50, final=0.002, start=0.5)
+    short = curve("evaluation", 50, final=0.002, start=0.5, **ARM1_THESIS)
     assert check("ch7.arm_fixed_point_learned_quickly", arm_fixed=short).status == (
         "inconclusive")
-    rnd = curve("update", 3000, final=0.01, start=0.5, tau=400.0)
+    rnd = curve("update", 3000, final=0.01, start=0.5, tau=400.0, **ARM2_THESIS)
     assert check("ch7.scales_to_millions_of_parameters", arm_random=rnd).status == "reproduced"
+    stuck = curve("update", 6000, final=0.2, start=0.5, tau=400.0, **ARM2_THESIS)
+    assert check("ch7.scales_to_millions_of_parameters", arm_random=stuck).status == (
+        "not_reproduced")
+
+
+def test_scaling_claim_reads_the_parameter_count():
+    """A small controller that learns says nothing about a lot of parameters."""
+    small = curve("update", 3000, final=0.01, start=0.5, tau=400.0,
+                  **{**ARM2_THESIS, "n_params": 9000})
+    v = check("ch7.scales_to_millions_of_parameters", arm_random=small)
+    assert v.status == "inconclusive" and "9,000 parameters of the thesis's 2,107,396" in (
+        v.detail)
+    bare = curve("update", 3000, final=0.01, start=0.5, tau=400.0)
+    v = check("ch7.scales_to_millions_of_parameters", arm_random=bare)
+    assert v.status == "not_run" and "n_params" in v.detail
+    few = curve("update", 3000, final=0.01, start=0.5, tau=400.0, **{**ARM2_THESIS, "batch": 8})
+    v = check("ch7.scales_to_millions_of_parameters", arm_random=few)
+    assert v.status == "inconclusive" and "batch 8 of the thesis's 128" in v.detail
 
 
 def test_quadruped_gait():
-    good = curve("evaluation", 600, final=1.2, start=0.0, tau=80.0, name="speed", rising=True)
-    assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=good).status == (
+    assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(1.2)).status == (
         "reproduced")
-    slow = curve("evaluation", 600, final=0.3, start=0.0, name="speed", rising=True)
+    # the hand-tuned 0.7 m/s is not the sentence's 1.17 m/s (less 25 %: 0.8775)
+    v = check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(0.75))
+    assert v.status == "not_reproduced" and v.measured["bound"] == 1.17 * 0.75
+    assert check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=gait(0.75)).status == (
+        "reproduced")
+    slow = gait(0.3)
     assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=slow).status == (
         "not_reproduced")
-    short = curve("evaluation", 100, final=0.3, start=0.0, name="speed", rising=True)
-    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=short)
+    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=gait(0.3, n=100))
     assert v.status == "inconclusive" and "run ended" in v.detail
 
 
-def _trot(speeds, upright):
+def test_quadruped_gait_needs_the_thesis_episode_and_controller():
+    for claim in ("ch7.quadruped_gait_in_500_evaluations", "ch8.ch7_gait_in_500_evaluations"):
+        v = check(claim, quadruped_gait=gait(1.5, episode_s=1.0))
+        assert v.status == "inconclusive" and "episodes of 1 s of the thesis's 10 s" in v.detail
+        v = check(claim, quadruped_gait=gait(0.01, n_params=1440))
+        assert v.status == "inconclusive" and "1440 parameters" in v.detail
+
+
+def _trot(speeds, upright, episode_s=10.0):
     ok = np.array(upright, np.int8)
     v = np.array(speeds, float)
     best = float(np.max(np.where(ok == 1, v, -np.inf))) if ok.any() else float("nan")
     return xr.Dataset({"trot_speed": ("trot", v), "trot_is_trot": ("trot", ok),
                        "hand_tuned_speed": ((), best), "hand_tuned_upright": ((), ok.sum())},
-                      coords={"trot": np.arange(len(v))})
+                      coords={"trot": np.arange(len(v))}, attrs={"episode_s": episode_s})
 
 
 def test_hand_tuned_trot():
@@ -155,6 +218,9 @@ def test_hand_tuned_trot():
     assert v.status == "not_reproduced" and "none of the 2" in v.detail
     old = xr.Dataset({"speed": (("seed", "evaluation"), np.zeros((1, 2)))})
     assert check("ch7.hand_tuned_trot", quadruped_gait=old).status == "not_run"
+    short = _trot([0.2, 0.4], [1, 1], episode_s=1.0)  # the smoke profile's 1-s trots
+    v = check("ch7.hand_tuned_trot", quadruped_gait=short)
+    assert v.status == "inconclusive" and "1 s" in v.detail
 
 
 def _pendulum(first_held, stays_up_s, time_to_up_s, test_s=60.0, episodes=100):
@@ -197,25 +263,39 @@ def test_pendulum_needs_held_episodes_and_a_balancing_test_run():
     assert v.status == "not_run" and "test_s" in v.detail
 
 
-def _arm_fixed(cmaes_reached, gradient_reached, n_eval=50):
+def _arm_fixed(cmaes_reached, gradient_reached, n_eval=60000, n_params=17284):
     seeds = [0, 1, 2]
     reached = xr.DataArray(np.array([gradient_reached, cmaes_reached], np.int8),
                            dims=("method", "seed"),
                            coords={"method": ["gradient", "cmaes"], "seed": seeds},
                            attrs={"units": "1", "long_name": "reached 4 cm"})
-    err = xr.DataArray(np.full((2, 3, n_eval), 0.5), dims=("method", "seed", "evaluation"),
+    err = xr.DataArray(np.full((2, 3, n_eval), 0.5, np.float32),
+                       dims=("method", "seed", "evaluation"),
                        coords={"method": ["gradient", "cmaes"], "seed": seeds,
                                "evaluation": np.arange(1, n_eval + 1)},
                        attrs={"units": "m", "long_name": "error"})
-    return xr.Dataset({"reached_4cm": reached, "error": err})
+    return xr.Dataset({"reached_4cm": reached, "error": err}, attrs={"n_params": n_params})
 
 
 def test_cmaes_fails_on_arm_verdicts():
     name = "ch7.cmaes_fails_on_arm"
     assert check(name, arm_fixed=_arm_fixed([0, 0, 0], [1, 1, 1])).status == "reproduced"
+    assert check(name, arm_fixed=_arm_fixed([0, 0, 0], [1, 0, 1])).status == "reproduced"
     assert check(name, arm_fixed=_arm_fixed([0, 1, 0], [1, 1, 1])).status == "not_reproduced"
-    assert check(name, arm_fixed=_arm_fixed([0, 0, 0], [1, 0, 1])).status == "inconclusive"
+    # reaching 4 cm with fewer evaluations than the thesis's contradicts it all the more
+    v = check(name, arm_fixed=_arm_fixed([0, 1, 0], [1, 1, 1], n_eval=200))
+    assert v.status == "not_reproduced"
     assert check(name).status == "not_run"
+
+
+def test_cmaes_budget_below_the_thesis_is_inconclusive():
+    v = check("ch7.cmaes_fails_on_arm", arm_fixed=_arm_fixed([0, 0, 0], [1, 1, 1], n_eval=200))
+    assert v.status == "inconclusive"
+    assert "CMA-ES budget 200 of the thesis's 60000 evaluations" in v.detail
+    # success on a smaller network does not contradict "cannot handle the sheer amount"
+    v = check("ch7.cmaes_fails_on_arm",
+              arm_fixed=_arm_fixed([1, 1, 1], [1, 1, 1], n_eval=60000, n_params=1252))
+    assert v.status == "inconclusive" and "1252 parameters" in v.detail
 
 
 def test_thesis_own_table7_1_satisfies_its_timing_claims():
@@ -231,7 +311,8 @@ def test_thesis_own_table7_1_satisfies_its_timing_claims():
     assert np.isfinite(da.values).all()
     # the thesis's gradients were usable (it trained with them)
     ok = xr.full_like(da, 1.0).assign_attrs(units="1", long_name="gradient finite")
-    ds = xr.Dataset({"seconds": da, "gradient_finite": ok})
+    ds = xr.Dataset({"seconds": da, "gradient_finite": ok},
+                    attrs={"simulated_seconds": paper.get("table7_1/simulated_seconds").value})
     for cid in ("ch7.gradient_costs_small_factor",
                 "ch7.gradient_cost_nearly_independent_of_parameters",
                 "ch7.gpu_slower_for_single_robot", "ch7.batching_accelerates_gpu",

@@ -1,21 +1,26 @@
-"""Regression references: tolerances per variable, machine-dependent values skipped."""
+"""Regression references: tolerances per variable, exactly the wall-clock values skipped."""
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from thesis import regression
+from thesis.store import WALL_CLOCK
 
 
-def _ds(err=(0.1, 0.2), secs=(1.0, 2.0)):
+def _ds(err=(0.1, 0.2), secs=(1.0, 2.0), sim=(3.0, 4.0)):
     return xr.Dataset(
         {"test_error": xr.DataArray(np.array(err), dims="seed",
                                     attrs={"units": "1", "long_name": "error"}),
          "wall_seconds": xr.DataArray(np.array(secs), dims="seed",
-                                      attrs={"units": "s", "long_name": "time"})},
+                                      attrs={"units": "s", "long_name": "time",
+                                             **WALL_CLOCK}),
+         "time_to_up_s": xr.DataArray(np.array(sim), dims="seed",
+                                      attrs={"units": "s", "long_name": "simulated time"})},
         coords={"seed": [0, 1]}, attrs={"thesis_ref": "Tab. 2.2"})
 
 
@@ -49,11 +54,41 @@ def test_missing_and_new_variables_and_shape_changes_are_reported():
     assert any("'error' is new" in p for p in problems)
 
 
-def test_per_variable_override():
+def test_simulated_seconds_are_compared_like_any_number():
+    ref = regression.to_reference(_ds())
+    assert ref["variables"]["time_to_up_s"]["compare"] is True
+    problems = regression.compare(_ds(sim=(3.0, 4.5)), ref)
+    assert len(problems) == 1 and "time_to_up_s" in problems[0]
+
+
+def test_skipping_follows_the_marker_not_units_or_names():
     ds = _ds()
-    ds["test_error"].attrs["regression_rtol"] = 0.5
+    ds["wall_seconds"].attrs.pop("measurement")  # a name and unit that look like wall time
     ref = regression.to_reference(ds)
-    assert regression.compare(_ds(err=(0.1, 0.25)), ref) == []
+    assert ref["variables"]["wall_seconds"]["compare"] is True
+    changed = _ds(secs=(50.0, 60.0))
+    changed["wall_seconds"].attrs.pop("measurement")
+    assert any("wall_seconds" in p for p in regression.compare(changed, ref))
+    assert not regression.is_wall_clock(ds["wall_seconds"])
+    assert regression.is_wall_clock(_ds()["wall_seconds"])
+
+
+def test_stale_reference_policy_is_reported():
+    ref = regression.to_reference(_ds())
+    ref["variables"]["time_to_up_s"]["compare"] = False  # as recorded before the marker
+    problems = regression.compare(_ds(sim=(3.0, 4.5)), ref)
+    assert any("stale reference" in p for p in problems)
+    assert any("differs beyond" in p and "time_to_up_s" in p for p in problems)
+
+
+def test_per_variable_override():
+    def widened(**kw):
+        ds = _ds(**kw)
+        ds["test_error"].attrs["regression_rtol"] = 0.5
+        return ds
+    ref = regression.to_reference(widened())
+    assert regression.compare(widened(err=(0.1, 0.25)), ref) == []
+    assert regression.compare(widened(err=(0.1, 0.35)), ref) != []
 
 
 def test_write_references_reports_changes(tmp_path):
@@ -62,3 +97,66 @@ def test_write_references_reports_changes(tmp_path):
     lines = regression.write_references({"ch2/table2_2": _ds(err=(0.3, 0.2))}, tmp_path)
     assert any("test_error" in line for line in lines)
     assert (tmp_path / "ch2" / "table2_2.json").exists()
+
+
+REFERENCES = Path(__file__).resolve().parents[1] / "regression" / "smoke"
+
+
+def _numeric(values):
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    return a[np.isfinite(a)]
+
+
+def test_committed_tolerances_are_narrower_than_the_spread_of_their_quantity():
+    """A tolerance of its own (wider than the rounding guard) must not cover every value
+    the quantity takes in its reference, or the comparison checks nothing."""
+    files = sorted(REFERENCES.glob("*/*.json"))
+    assert files, REFERENCES
+    widened = 0
+    for path in files:
+        for name, spec in json.loads(path.read_text())["variables"].items():
+            default = (spec["rtol"], spec["atol"]) == (regression.DEFAULT_RTOL,
+                                                       regression.DEFAULT_ATOL)
+            if not spec["compare"] or default:
+                continue
+            widened += 1
+            v = _numeric(spec["values"])
+            assert v is not None and v.size > 1, f"{path.name}:{name} has no spread"
+            band = spec["atol"] + spec["rtol"] * np.abs(v).max()
+            spread = v.max() - v.min()
+            assert band < spread, f"{path.name}:{name}: tolerance {band:.3g} >= spread {spread:.3g}"
+    assert widened >= 1  # ch2's error rates carry their own tolerance
+
+
+def test_committed_references_skip_only_wall_clock_like_variables():
+    """Every skipped reference variable is one the code marks as wall-clock: the names
+    here are the marked ones (a new skip must be a new marked measurement)."""
+    marked = {"seconds", "seconds_runs", "exponent_n2logn", "exponent_n", "train_seconds",
+              "wall_seconds", "trot_wall_seconds", "robot_seconds_per_wall_second",
+              "compile_seconds", "ms_per_robot_step", "peak_memory_bytes"}
+    for path in sorted(REFERENCES.glob("*/*.json")):
+        for name, spec in json.loads(path.read_text())["variables"].items():
+            if not spec["compare"]:
+                assert name in marked, f"{path.parent.name}/{path.name}: {name} skipped"
+
+
+#: Per-digit error of a classifier that learned nothing (10 classes) and the bound the
+#: smoke profile's Tab. 2.2 cells must stay under: the smoke is sized so that a working
+#: model is clearly better than chance (config/smoke.yaml, ch2).
+CH2_CHANCE_ERROR = 0.9
+CH2_SMOKE_MAX_ERROR = 0.8
+
+
+def test_ch2_smoke_reference_is_clearly_better_than_chance():
+    """Every cell of the committed smoke Tab. 2.2 learned: a reference rewritten from models
+    that learned nothing (e.g. shuffled labels, error ~0.9) cannot be committed, and the
+    regression's 0.03 tolerance then tells such a run from the reference."""
+    ref = json.loads((REFERENCES / "ch2" / "table2_2.json").read_text())
+    err = np.asarray(ref["variables"]["test_error"]["values"], dtype=float)
+    assert np.isfinite(err).all()
+    assert err.max() < CH2_SMOKE_MAX_ERROR < CH2_CHANCE_ERROR, err.ravel().tolist()
+    tol = ref["variables"]["test_error"]["atol"]
+    assert CH2_CHANCE_ERROR - err.max() > tol  # a chance-level run differs beyond tolerance

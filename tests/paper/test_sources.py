@@ -85,7 +85,8 @@ def test_numbers_in_parses_thesis_notation():
 
 
 def test_tables_complete():
-    counts = {t: len(paper.table(t)) for t in
+    """Every result cell of each table (setup entries, such as Tab. 2.2's rows of d, aside)."""
+    counts = {t: len([e for e in paper.table(t) if not e.config]) for t in
               ("Tab. 2.2", "Tab. 3.1", "Tab. 3.2", "Tab. 4.2", "Tab. 4.3", "Tab. 4.4",
                "Tab. 5.3", "Tab. 5.4", "Tab. 5.5", "Tab. 5.6", "Tab. 7.1")}
     assert counts == {"Tab. 2.2": 24, "Tab. 3.1": 20, "Tab. 3.2": 6, "Tab. 4.2": 70,
@@ -99,3 +100,29 @@ def test_select_lines_up_with_dataset_coords():
     assert sorted(e.value for e in cells) == [17.8, 18.3, 128.0, 129.0]
     with pytest.raises(KeyError):
         paper.get("table2_2/no/such/key")
+
+
+def test_setup_entries_name_a_config_path_of_every_profile():
+    from thesis.config import load_config
+    from thesis.departures import config_value
+
+    assert paper.setup(), "the thesis's stated setup is data"
+    for profile in ("smoke", "default", "paper"):
+        cfg = load_config(profile)
+        for e in paper.setup():
+            config_value(cfg, e.config)  # KeyError names a path that does not exist
+
+
+def test_config_forms():
+    assert paper.config_matches(128.0, "each", [128, 128])
+    assert not paper.config_matches(128.0, "each", [128, 64])
+    assert paper.config_matches(2.0, "length", [128, 128])
+    assert paper.config_matches(96.0, "item:1", [288, 96])
+    assert not paper.config_matches(96.0, "item:0", [288, 96])
+    assert paper.config_matches(2.0, "contains", [1, 2, 3])
+    assert not paper.config_matches(2.0, "contains", [1, 3])
+    assert paper.config_matches(30.0, "value", 30)
+    assert not paper.config_matches(30.0, "value", 150.0)
+    assert not paper.config_matches(30.0, "value", [30.0])
+    with pytest.raises(ValueError):
+        PaperValue(**{**paper.setup()[0].__dict__, "config_form": "sum"})

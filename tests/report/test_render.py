@@ -53,13 +53,30 @@ def _write_result(root):
                         started=datetime.now(timezone.utc))
 
 
+_DEVIATION = {"id": "ch3.pso_budget", "kind": "deviation", "thesis": "10 x 10 swarm",
+              "ours": "a tiny swarm", "why": "smoke budget", "results": ["ch3/fig3_4"],
+              "config": {"ch3.pso.half_ellipse.particles": 4}, "in_effect": True,
+              "paper": [{"key": "sec3.3.1.2/pso_particles", "value": 10.0, "unit": "1"}]}
+_CHOICE = {"id": "ch3.sweep_protocol", "kind": "choice", "thesis": "silent",
+           "ours": "a grid", "why": "silent", "results": ["ch3/fig3_4"], "config": {},
+           "in_effect": True, "paper": []}
+
+
 def _write_claims(root):
-    claims = [{"id": "ch3.half_ellipse_fastest", "chapter": "ch3", "wording": "fastest",
-               "paper": {"speed": 0.3}, "measured": {"speed": 0.3},
-               "statistic": "bootstrap", "status": "reproduced", "detail": "ok"},
-              {"id": "ch5.terrain", "chapter": "ch5", "wording": "classifies",
-               "paper": {}, "measured": {}, "statistic": "", "status": "not_run",
-               "detail": "ch5/table5_3 missing"}]
+    claims = [{"id": "ch3.half_ellipse_fastest", "chapter": 3, "section": "§3",
+               "quote": "fastest gaits", "summary": "half ellipse beats both",
+               "paper": [{"key": "fig3_4/x", "value": 0.3, "unit": "m/s"}],
+               "measured": {"speed": 0.3}, "statistic": "bootstrap", "status": "reproduced",
+               "reading": "reproduced under a declared deviation", "detail": "ok",
+               "departures": [_DEVIATION, _CHOICE]},
+              {"id": "ch5.terrain", "chapter": 5, "section": "§5", "quote": "classifies",
+               "summary": "", "paper": [], "measured": {}, "statistic": "",
+               "status": "not_run", "reading": "not run", "detail": "ch5/table5_3 missing",
+               "departures": []},
+              {"id": "ch8.ch3_x", "chapter": 8, "section": "§8.1", "quote": "conclusion",
+               "summary": "", "paper": [], "measured": {}, "statistic": "",
+               "status": "inconclusive", "reading": "inconclusive as stated",
+               "detail": "only 1 seed", "departures": []}]
     (root / "smoke").mkdir(parents=True, exist_ok=True)
     (root / "smoke" / "claims.json").write_text(json.dumps({"claims": claims}))
 
@@ -83,7 +100,14 @@ def test_report_shows_values_figures_claims_and_not_run(tmp_path, fake_chapter):
     assert (out / "tables" / "ch3_fig3_4.html").exists()
     assert (out / "tables" / "claims.html").exists()
     summary = (out / "summary.md").read_text()
-    assert "| sine | 0.300 |" in summary and "reproduced 1" in summary
+    assert "| sine | 0.300 |" in summary
+    assert "reproduced under a declared deviation 1" in summary
+    # the verdict's departures beside it, in the page and in summary.md
+    assert "fastest gaits" in page and "ch3.pso_budget" in page and "ch3.sweep_protocol" in page
+    assert "ch3.pso.half_ellipse.particles = 4" in page and "sec3.3.1.2/pso_particles" in page
+    bullet = summary.split("`ch3.half_ellipse_fastest`")[1].split("\n- ")[0]
+    assert "deviation ch3.pso_budget" in bullet and "`ch3.sweep_protocol`" in bullet
+    assert "§8.1" in summary and "ch8.ch3_x" in summary
 
 
 def test_missing_results_show_not_run_never_numbers(tmp_path, fake_chapter):

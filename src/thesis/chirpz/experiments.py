@@ -37,6 +37,7 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.runctx import RunContext
+from thesis.store import WALL_CLOCK
 
 MODELS = ("ffn_spn", "rnn_spn")
 
@@ -106,11 +107,14 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
 
 
 #: Smoke-regression tolerance of the error rates (``thesis.regression``): XLA's convolutions
-#: round differently on different CPUs, and a few test digits flip. Measured on the smoke
-#: profile, an AVX2 against an AVX-512 machine (Nov 2026, also with ``jax.max_isa``
-#: AVX2): test error by up to 0.027 (8 of 300 digits), validation error by 0.02, best
-#: epoch by 1, while the training loss agrees to 4e-4 relative and stays the tight guard.
-_COUNT_TOLERANCE = {"regression_atol": 0.06}
+#: round differently on different CPUs (AVX2 against AVX-512, also with ``jax.max_isa``),
+#: and a few test digits flip: up to 8 of the smoke profile's 300 test digits (0.027),
+#: 0.02 in validation error, while the training loss agrees to 4e-4 relative and stays the
+#: tight guard. The tolerance covers those flips and no more; it must stay below the spread
+#: of the error rates over the grid (``tests/core/test_regression.py``). The best epoch
+#: follows the validation curve and is compared exactly: a flipped best epoch selects other
+#: parameters, a changed result.
+_COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
 def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
@@ -176,10 +180,10 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
             "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
                               "learning rate used in the epoch"}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
-                           "epoch of the lowest validation error (1-based)",
-                           "regression_atol": 1.0}),
+                           "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
-                              "wall time of the training run, compilation included"}),
+                              "wall time of the training run, compilation included",
+                              **WALL_CLOCK}),
             "n_params": (("d", "transform"), nparams, {"units": "1", "long_name":
                          "number of trainable parameters"}),
         },
@@ -358,15 +362,16 @@ def chirpz_scaling(ctx: RunContext) -> xr.Dataset:
     ds = xr.Dataset(
         {
             "seconds": (dims, med, {"units": "s", "long_name":
-                        f"median wall time per call for a batch of {batch} images"}),
+                        f"median wall time per call for a batch of {batch} images",
+                        **WALL_CLOCK}),
             "seconds_runs": (dims + ("repeat",), times, {"units": "s", "long_name":
-                             "wall time of every timed call"}),
-            # fitted to wall times, so machine-dependent: recorded, not regressed
+                             "wall time of every timed call", **WALL_CLOCK}),
+            # fitted to wall times: wall-clock measurements themselves
             "exponent_n2logn": (("layer", "pass"), expo, {"units": "1", "long_name":
                                 "least-squares exponent b of t = c (n^2 log n)^b",
-                                "regression_compare": 0}),
+                                **WALL_CLOCK}),
             "exponent_n": (("layer", "pass"), expo_n, {"units": "1", "long_name":
-                           "least-squares exponent of t = c n^b", "regression_compare": 0}),
+                           "least-squares exponent of t = c n^b", **WALL_CLOCK}),
         },
         coords={"layer": list(layers), "pass": ["forward", "forward_backward"],
                 "size": sizes, "repeat": np.arange(repeats)},

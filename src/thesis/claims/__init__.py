@@ -4,7 +4,9 @@ Public API:
 
 - ``CLAIMS``: all :class:`Claim` objects, chapter order; ``get(id)`` one of them;
 - :func:`evaluate_all` ``(results)``: JSON-ready verdicts of every claim, with the
-  published numbers each rests on and the numbers measured;
+  published numbers each rests on, the numbers measured, and the declared departures of
+  the results it reads (:mod:`thesis.claims.basis`: ``departures``, and ``reading``, e.g.
+  "reproduced as stated" or "reproduced under a declared deviation");
 - :class:`Verdict`, :class:`Claim`, :data:`STATUSES`; the statistics in
   :mod:`thesis.claims.stats`.
 
@@ -20,7 +22,7 @@ from collections.abc import Mapping
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import ch2, ch3, ch4, ch5, ch6, ch7, ch8, stats
+from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
@@ -50,13 +52,17 @@ def _paper_entry(key: str) -> dict[str, object]:
 
 
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, object]:
-    """One claim's verdict as a JSON-ready dict (claim fields, paper numbers, verdict)."""
+    """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
+    departures of the results it rests on (``departures``, each with ``in_effect``) and its
+    ``reading`` (:func:`thesis.claims.basis.reading`)."""
     verdict = claim.check(results)
+    deps = basis.claim_departures(claim.requires, results)
     return {
         "id": claim.id, "chapter": claim.chapter, "section": claim.section,
         "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
         "reads": list(claim.reads), "paper": [_paper_entry(k) for k in claim.paper_keys],
-        **verdict.to_dict(),
+        **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
+        "departures": deps,
     }
 
 

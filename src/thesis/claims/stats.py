@@ -21,7 +21,8 @@ Rules (applied uniformly by the decision helpers below):
    :data:`PUBLISHED_TOLERANCE` (25 %); **counts of evaluations or updates** allow a
    factor :data:`BUDGET_FACTOR` (2) over the thesis's count (:func:`decide_within_budget`).
 8. **Timings** are measurements, not seeded outcomes: :func:`decide_measurement` compares
-   the median over repeats with the bound, without an interval.
+   the median over repeats with the bound, without an interval; "roughly a factor F"
+   (:func:`decide_roughly`) is a band from F / :data:`ROUGHLY` to F x :data:`ROUGHLY`.
 9. **"Run A's particles outperform run B's over all generations"** (§4.6,
    :func:`decide_runs_over_generations`). The thesis ran one optimisation per arm and
    compared them with a Wilcoxon rank-sum test per generation, the p-values combined
@@ -47,6 +48,11 @@ Rules (applied uniformly by the decision helpers below):
 10. **"It happens in most runs"** (:func:`decide_majority`): reproduced when the event
     occurs in more than half of the seeds, not_reproduced when in fewer than half,
     inconclusive at exactly half (and below :data:`MIN_SEEDS` seeds).
+11. **A profile that cannot test the sentence as stated** (a budget, network, batch or
+    duration smaller than the thesis's; a quantity not measured) gives *inconclusive*
+    with the gap in the detail (:func:`untestable`), never *reproduced*; a run that
+    contradicts the claim even at the smaller scale may still be *not_reproduced* where
+    the smaller scale can only make the claim easier, as each check says.
 """
 
 from __future__ import annotations
@@ -75,6 +81,9 @@ BUDGET_FACTOR = 2.0
 SMALL_A_EFFECT = 0.06
 #: The claims rule 9 decides.
 RUN_CLAIMS = ("better", "not_better", "no_difference")
+#: "roughly a factor F": within a factor 2 either side of F (log-symmetric). The thesis calls
+#: its own Tab. 7.1 ratios of 5.5 to 7.7 "roughly a factor 10", which this band contains.
+ROUGHLY = 2.0
 
 _RESAMPLES: contextvars.ContextVar[int] = contextvars.ContextVar("n_resamples",
                                                                 default=N_RESAMPLES)
@@ -321,6 +330,42 @@ def decide_measurement(value: float, *, bound: float, below: bool, label: str) -
                    f"{label} = {value:.3g} is {'' if ok else 'not '}{side} {bound:g}")
 
 
+def decide_roughly(values, *, factor: float, label: str) -> Verdict:
+    """Decide "roughly a factor ``factor``" from measured ratios ``values`` (rule 8).
+
+    Reproduced when every finite ratio lies in ``[factor / ROUGHLY, factor * ROUGHLY]``;
+    not_reproduced when their geometric mean lies outside it; inconclusive when the mean is
+    inside but some ratios are not.
+    """
+    x = np.asarray(values, float).ravel()
+    x = x[np.isfinite(x) & (x > 0)]
+    lo, hi = factor / ROUGHLY, factor * ROUGHLY
+    gmean = float(np.exp(np.log(x).mean())) if x.size else float("nan")
+    statistic = (f"{label}: every measured ratio (no interval) within roughly a factor "
+                 f"{factor:g}, i.e. [{lo:g}, {hi:g}]")
+    measured = {f"{label}_gmean": gmean, f"{label}_min": float(x.min()) if x.size else np.nan,
+                f"{label}_max": float(x.max()) if x.size else np.nan, "band_low": lo,
+                "band_high": hi, "n_configurations": float(x.size)}
+    if not x.size:
+        return Verdict("inconclusive", measured, statistic, f"no finite {label}")
+    inside = (x >= lo) & (x <= hi)
+    if inside.all():
+        return Verdict("reproduced", measured, statistic,
+                       f"every {label} ({x.min():.3g} to {x.max():.3g}) is in [{lo:g}, {hi:g}]")
+    if not lo <= gmean <= hi:
+        return Verdict("not_reproduced", measured, statistic,
+                       f"geometric mean {gmean:.3g} is outside [{lo:g}, {hi:g}]")
+    return Verdict("inconclusive", measured, statistic,
+                   f"geometric mean {gmean:.3g} is in the band but {int((~inside).sum())} of "
+                   f"{x.size} ratios are not")
+
+
+def untestable(gaps: list[str], measured: dict | None = None, statistic: str = "") -> Verdict:
+    """*Inconclusive* because the profile cannot test the sentence as stated (rule 11)."""
+    return Verdict("inconclusive", dict(measured or {}), statistic,
+                   "not testable as stated at this profile: " + "; ".join(gaps))
+
+
 def first_reaching(curve: xr.DataArray, dim: str, threshold: float) -> np.ndarray:
     """Per seed, the first coordinate of ``dim`` where ``curve < threshold`` (NaN if never).
 
@@ -369,8 +414,15 @@ def decide_within_budget(reached_at, run_length, *, budget: float, label: str,
     if success.all():
         return Verdict("reproduced", measured, statistic,
                        f"all {n} seeds reached the target within {limit:g}")
+    censored = ~success & ~fail
+    if censored.any():
+        return Verdict("inconclusive", measured, statistic,
+                       f"{int(censored.sum())} of {n} seeds stopped at {run_length[censored].max():g} "
+                       f"before the limit {limit:g} ({factor:g} x the thesis's {budget:g}) "
+                       "without reaching the target; "
+                       f"{int(success.sum())} reached it, {int(fail.sum())} missed it")
     return Verdict("inconclusive", measured, statistic,
-                   "some seeds missed the target or stopped before the limit")
+                   f"{int(fail.sum())} of {n} seeds missed the target within {limit:g}")
 
 
 def combine(parts: dict[str, Verdict], *, statistic: str = "") -> Verdict:

@@ -43,7 +43,7 @@ DEPARTURES: tuple[Departure, ...] = (
                "and that the robot ran nearly 6 km in the 4 hours of optimisation, but not "
                "the number of generations.",
         ours="13 generations: 4 h at 6 s per evaluation is 2 400 evaluations, over 9 "
-             "optimisations of 20 particles that is 13.3 generations each.",
+             "optimisations of the thesis's swarm that is 13.3 generations each.",
         why="The thesis's own budget, so that the comparison has the thesis's robot time.",
         paper_keys=("sec4.5/distance_run", "sec4.5/optimisation_hours",
                     "sec4.5/evaluation_seconds", "sec4.5/transition_seconds",
@@ -190,9 +190,9 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch4.best_particles_per_seed", kind="choice", results=("ch4/fig4_6",),
         config=("ch4.fig4_6.top",),
-        thesis="Fig. 4.6: the 50 best particles of all optimisations per inclination, a "
+        thesis="Fig. 4.6: the best particles (their number: paper key fig4_6/top) of all optimisations per inclination, a "
                "Gaussian fitted; panel (b)'s axes are not described.",
-        ours="Per seed: the 50 best of the flat run for flat ground and of both arms of a "
+        ours="Per seed: as many best particles as the thesis shows, of the flat run for flat ground and of both arms of a "
              "slope for that slope; panel (b) shows x0 against y0r.",
         why="One Fig. 4.6 per seed, as one thesis experiment per seed.",
         paper_keys=("fig4_6/top",),

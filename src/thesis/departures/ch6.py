@@ -23,14 +23,14 @@ DEPARTURES: tuple[Departure, ...] = (
     ),
     Departure(
         id="ch6.teacher_gait", kind="deviation", results=_ALL,
-        thesis="§6.4: the teacher is a stable trot from previous work at 1.7 Hz and about "
-               "0.76 m/s; its parameters are not printed.",
+        thesis="§6.4: the teacher is a stable trot from previous work at a stated frequency and "
+               "speed; its parameters are not printed.",
         ours="A screen (thesis.embodied.teacher) of chapter 3's optimised half-ellipse and "
-             "spline trots, each at 1.7 Hz with its stride scaled by each configured factor, "
+             "spline trots, each at the thesis's frequency with its stride scaled by each configured factor, "
              "run open loop through the whole protocol including the power-off; the fastest "
              "candidate that stays up and walks again after power-on is the teacher (if none "
              "passes, the one upright longest, recorded as not passed). Its speed is what "
-             "the simulated robot reaches, not 0.76 m/s.",
+             "the simulated robot reaches, not the thesis's speed.",
         why="The thesis's own gaits fall over within seconds on this model (CH456 §1.3), so "
             "the teacher must be a gait that this robot can run for the whole protocol.",
         config=("ch6.teacher.frequency", "ch6.teacher.families", "ch6.teacher.stride_scales"),
@@ -49,12 +49,12 @@ DEPARTURES: tuple[Departure, ...] = (
     ),
     Departure(
         id="ch6.controller_period", kind="deviation", results=_SIMS,
-        thesis="§6.2: the controller period is on average 8.2 ms and varies by up to 15 % with "
+        thesis="§6.2: the controller period has a stated average and varies by a stated fraction with "
                "the controller's computational load.",
-        ours="A constant period of 8.2 ms: 4 physics steps of 2.05 ms with the command held; "
+        ours="A constant period of the thesis's average: 4 physics steps of a quarter of it with the command held; "
              "no jitter.",
         why="A fixed period keeps a sweep in one compiled simulation; the jitter's effect is "
-            "not studied in the thesis either. 2.05 ms is finer than the chapter 3 model's "
+            "not studied in the thesis either. Its physics step is finer than the chapter 3 model's "
             "2.5 ms, so the engine is at least as stable.",
         config=("ch6.model.dt", "ch6.control.substeps"),
         paper_keys=("sec6.2/controller_dt", "sec6.2/controller_dt_variation"),
@@ -73,11 +73,11 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch6.normalisation_and_noise", kind="choice", results=_LEARNED,
         thesis="§6.4: the robot first runs 5 s with the teacher to reach steady state, the "
                "mean and standard deviation of each sensor over these 5 s normalise the "
-               "inputs, and Gaussian noise 'with an amplitude of 0.01' is added during "
+               "inputs, and Gaussian noise of a stated amplitude is added during "
                "training.",
         ours="Before the 5-s normalisation the teacher's command eases from the standing pose "
              "into the gait's first pose (settle); the statistics are those of the 5 s; the "
-             "noise has standard deviation 0.01 on each normalised input during both "
+             "noise has the stated amplitude as standard deviation on each normalised input during both "
              "training stages and none afterwards.",
         why="The easing keeps the first command from jumping (as in chapter 3); 'amplitude' "
             "is read as the standard deviation.",
@@ -110,7 +110,7 @@ DEPARTURES: tuple[Departure, ...] = (
     ),
     Departure(
         id="ch6.success_criteria", kind="choice", results=_LEARNED,
-        thesis="§6.4: 'run stably for 30 seconds' and 'return to its gait' after power-on; "
+        thesis="§6.4: 'run stably' for a stated time and 'return to its gait' after power-on; "
                "three failure modes (output dies out, erratic motion, no return); no "
                "numbers.",
         ours="Per run (thesis.embodied.criteria): not fallen (trunk below 0.08 m or tilted "

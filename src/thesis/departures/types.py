@@ -32,6 +32,15 @@ class Departure:
         config: dotted config paths that hold the pipeline's value (their values are
             recorded beside the departure), e.g. ``("ch7.arm_fixed.servo_torque",)``.
         paper_keys: ``thesis.paper`` keys of the stated setup value (deviations).
+        thesis_config: ``((path, value), ...)``: the config values that are the thesis's
+            own setup where the thesis states it in words rather than as a published
+            number (e.g. ``(("ch7.ball.toi_correction", False),)``). Optional.
+
+    A deviation is *in effect* in a run unless every path of ``config`` holds the thesis's
+    value there: a ``thesis.paper`` setup entry naming that path (see
+    :attr:`thesis.paper.PaperValue.config`) or an item of ``thesis_config``. Whether it is
+    in effect is decided where the thesis's numbers may be read (``thesis.claims``);
+    a choice is always in effect.
     """
 
     id: str
@@ -42,9 +51,16 @@ class Departure:
     why: str
     config: tuple[str, ...] = ()
     paper_keys: tuple[str, ...] = ()
+    thesis_config: tuple[tuple[str, object], ...] = ()
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"departure {self.id!r}: kind {self.kind!r} not in {KINDS}")
         if not self.results:
             raise ValueError(f"departure {self.id!r} names no result it affects")
+        if not self.id.startswith("ch") or "." not in self.id:
+            raise ValueError(f"departure id {self.id!r} is not 'ch<n>.<short_name>'")
+        for path, _ in self.thesis_config:
+            if path not in self.config:
+                raise ValueError(f"departure {self.id!r}: thesis_config path {path!r} is not "
+                                 "one of its config paths")

@@ -72,6 +72,7 @@ from thesis.optim import cmaes
 from thesis.physics import rollout
 from thesis.physics.math import safe_norm
 from thesis.physics.models import ball as ball_model
+from thesis.store import WALL_CLOCK
 
 __all__ = ["build", "errors_fn", "gradient_fns", "run_gradient", "run_cmaes", "ball"]
 
@@ -252,7 +253,7 @@ def ball(ctx) -> xr.Dataset:
                 "(gradient: iterations with gradient; cmaes: candidates); NaN = not reached"}),
             "wall_seconds": (dims, stack("wall_seconds"), {
                 "units": "s", "long_name": "wall time of the optimisation (compilation "
-                "excluded; until convergence or the budget)"}),
+                "excluded; until convergence or the budget)", **WALL_CLOCK}),
             "final_position_error": (dims, stack("pos_err"), {
                 "units": "m", "long_name": "|p_T - target| of the returned solution"}),
             "final_velocity_error": (dims, stack("vel_err"), {

@@ -60,6 +60,8 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec as P
 
+from thesis.store import WALL_CLOCK
+
 __all__ = [
     "IMU_READINGS", "controller_sizes", "count_params", "init_controller", "apply_controller",
     "sensor_bodies", "sensor_vector", "make_controller", "quadruped", "initial_states",
@@ -278,6 +280,10 @@ _VARS = {  # name: (units, long_name)
 }
 
 
+#: the variables of ``_VARS`` measured by the wall clock (or by the memory in use)
+_WALL = ("seconds", "compile_seconds", "ms_per_robot_step", "peak_memory_bytes")
+
+
 def grid_dataset(run_cell, plats, batches, sizes, n_steps: int, dt: float):
     """Run ``run_cell(devices, batch, sizes, gradient) -> dict`` over the whole grid.
 
@@ -303,7 +309,9 @@ def grid_dataset(run_cell, plats, batches, sizes, n_steps: int, dt: float):
                         data[name][i, j, k, g] = cell.get(name, np.nan)
     dims = ("device", "batch", "n_params", "gradient")
     ds = xr.Dataset(
-        {k: (dims, data[k], {"units": u, "long_name": ln}) for k, (u, ln) in _VARS.items()},
+        {k: (dims, data[k], {"units": u, "long_name": ln,
+                             **(WALL_CLOCK if k in _WALL else {})})
+         for k, (u, ln) in _VARS.items()},
         coords={"device": [p for p, _ in plats], "batch": [int(b) for b in batches],
                 "n_params": n_params, "gradient": [0, 1]})
     ds["device_name"] = ("device", [str(d[0].device_kind) for _, d in plats],

@@ -62,6 +62,7 @@ from thesis.errors import SimulationDiverged
 from thesis.diffphys import bptt, frames, nets, trot
 from thesis.physics import rollout
 from thesis.physics.models import quadruped
+from thesis.store import WALL_CLOCK
 
 __all__ = ["build", "speed_fn", "gait"]
 
@@ -161,7 +162,8 @@ def gait(ctx) -> xr.Dataset:
             "skipped_updates": (("seed",), np.array(skipped), {
                 "units": "1", "long_name": "updates skipped for a non-finite gradient"}),
             "wall_seconds": (("seed",), np.array(walls), {
-                "units": "s", "long_name": "wall time of training after compilation"}),
+                "units": "s", "long_name": "wall time of training after compilation",
+                **WALL_CLOCK}),
             "frames": (("frame", "row", "col", "channel"), imgs, {
                 "units": "1", "long_name": "RGB frames (0-255) of the learned gait of the "
                 "first seed, engine camera tracking the spine"}),
@@ -248,7 +250,7 @@ def _hand_tuned(ctx, cfg, n_steps) -> xr.Dataset:
         "hand_tuned_upright": ((), int(ok[g].sum()), {"units": "1", "long_name": "upright "
                                "trots at the gait's servo torque"}),
         "trot_wall_seconds": ((), wall, {"units": "s", "long_name": "wall time of the trot "
-                              "grid searches including compilation"}),
+                              "grid searches including compilation", **WALL_CLOCK}),
     })
     out = xr.Dataset(data, coords={
         "trot": np.arange(len(params)),

@@ -59,6 +59,7 @@ from thesis.diffphys import bptt, frames, nets
 from thesis.physics import decay_gradient, render, step
 from thesis.physics.math import safe_norm
 from thesis.physics.models import cartpole
+from thesis.store import WALL_CLOCK
 
 __all__ = ["build", "episode_fn", "kick", "up_angle", "pendulum"]
 
@@ -230,7 +231,9 @@ def pendulum(ctx) -> xr.Dataset:
                                    "upright"),
             "time_to_up_s": seed_var(t_up, "s", "test run: time until the pendulum first "
                                      "came up (NaN: never)"),
-            "wall_seconds": seed_var(walls, "s", "wall time of training after compilation"),
+            "wall_seconds": (("seed",), np.array(walls, float), {
+                "units": "s", "long_name": "wall time of training after compilation",
+                **WALL_CLOCK}),
             "loss": (("seed", "episode"), np.array(losses), {
                 "units": "m", "long_name": "episode loss: mean tip distance to upright plus "
                 "speed_weight x tip speed"}),

@@ -22,6 +22,7 @@ from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
 from thesis.gaits import turning as TU
 from thesis.optim import pso
+from thesis.store import WALL_CLOCK
 # the module (the package re-exports the constructor under the same name)
 O = importlib.import_module("thesis.physics.models.oncilla")
 
@@ -188,7 +189,8 @@ def table3_1(ctx) -> xr.Dataset:
     rs, ws = np.sum([t[0] for t in timing]), np.sum([t[1] for t in timing])
     ds["robot_seconds_per_wall_second"] = ((), rs / ws if ws > 0 else np.nan, dict(
         units="1", long_name="simulated robot-seconds per wall-second of the batched PSO "
-                             "generations (generations after the first, no compilation)"))
+                             "generations (generations after the first, no compilation)",
+        **WALL_CLOCK))
     ds["parameter_unit"] = ("parameter", [units[n] for n in names],
                             dict(units="1", long_name="unit of the parameter"))
     for g in GAITS:
@@ -242,7 +244,8 @@ def fig3_4(ctx) -> xr.Dataset:
                  units="m s-1", long_name="theoretical speed 2 a f / duty (foot speed in stance)")),
              fallen=(dims, fallen, dict(units="1", long_name="1 if the robot fell")),
              wall_seconds=((), sim["wall"], dict(
-                 units="s", long_name="wall time of the batched sweep (with compilation)"))),
+                 units="s", long_name="wall time of the batched sweep (with compilation)",
+                 **WALL_CLOCK))),
         coords=dict(gait=list(GAITS), frequency=freqs, seed=seeds))
     ds.attrs.update(thesis_ref="Fig. 3.4", seeds=seeds, run_seconds=sw["run_seconds"],
                     batch_per_call=len(names))

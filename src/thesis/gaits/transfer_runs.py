@@ -36,7 +36,7 @@ from collections.abc import Hashable, Sequence
 import numpy as np
 import xarray as xr
 
-from thesis import seeding
+from thesis import seeding, store
 from thesis.errors import SimulationDiverged
 from thesis.gaits import conditions as C
 from thesis.gaits import runner as R
@@ -100,14 +100,13 @@ class Timing:
 
     def variables(self) -> dict:
         """Dataset variables; wall-clock ones carry ``measurement="wall_clock"``."""
-        clock = dict(measurement="wall_clock", regression_compare=0)
+        clock = dict(store.WALL_CLOCK)
         rate = self.steady_robot_seconds / self.steady_wall if self.steady_wall > 0 else np.nan
         cpu_rate = self.steady_robot_seconds / self.steady_cpu if self.steady_cpu > 0 else np.nan
         return {
             "simulated_robot_seconds": ((), self.robot_seconds, dict(
                 units="s", long_name="simulated robot time of every evaluation of this "
-                                     "experiment (padding robots excluded)",
-                regression_compare=1)),
+                                     "experiment (padding robots excluded)")),
             "rollout_wall_seconds": ((), self.wall, dict(
                 units="s", long_name="wall time of the batched rollouts, with compilation",
                 **clock)),

@@ -10,16 +10,19 @@ Every number is a :class:`PaperValue` quoting the thesis text it was read from. 
 - :func:`table` ``(table_id)``: the entries of a table or artifact, by thesis reference
   (``"Tab. 2.2"``, ``"§7.2.1"``) or artifact id (``"table2_2"``, ``"ball"``);
 - :func:`select` ``(artifact, variable=None, **coords)``: entries of an artifact whose
-  coordinates match, for lining thesis values up with a result dataset.
+  coordinates match, for lining thesis values up with a result dataset;
+- :func:`setup` ``(path=None)``: the numbers of the thesis's stated setup, each naming the
+  config path of the pipeline's value (:attr:`PaperValue.config`).
 """
 
 from __future__ import annotations
 
 from thesis.paper import ch2, ch3, ch4, ch5, ch6, ch7
-from thesis.paper.types import PaperValue, make_key, normalise_ws, numbers_in
+from thesis.paper.types import (CONFIG_FORMS, PaperValue, config_matches, make_key,
+                                normalise_ws, numbers_in)
 
-__all__ = ["ALL", "PaperValue", "get", "table", "select", "make_key", "numbers_in",
-           "normalise_ws"]
+__all__ = ["ALL", "CONFIG_FORMS", "PaperValue", "config_matches", "get", "table", "select",
+           "setup", "make_key", "numbers_in", "normalise_ws"]
 
 ALL: tuple[PaperValue, ...] = (
     *ch2.ENTRIES, *ch3.ENTRIES, *ch4.ENTRIES, *ch5.ENTRIES, *ch6.ENTRIES, *ch7.ENTRIES,
@@ -58,3 +61,8 @@ def select(artifact: str, variable: str | None = None, **coords: object) -> list
         if all(k in c and c[k] == v for k, v in coords.items()):
             out.append(e)
     return out
+
+
+def setup(path: str | None = None) -> list[PaperValue]:
+    """Entries of the thesis's stated setup (those with a config path), or those of ``path``."""
+    return [e for e in ALL if e.config and (path is None or e.config == path)]

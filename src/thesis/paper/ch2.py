@@ -52,8 +52,69 @@ def _table2_2() -> list[PaperValue]:
     return out
 
 
+_SIZES = "The trainset has 60 000 samples for training, 10 000 for validation and 10 000 for testing."
+_CANVAS = ("The dataset is created by placing 3 MNIST digits on a square canvas with a width of "
+           "100 pixels.")
+_CLUTTER = ("Digits are placed following a slope sampled from $\\pm 45^{\\circ}$ and cluttered by "
+            "placing 8 patches of 9 by 9 pixels sampled from the original MNIST digits.")
+#: Tab. 2.1 rows (FFN-SPN column, RNN-SPN column) as printed
+_T21_CONV = "3×3 convolution (20 filters)\t3×3 convolution (20 filters)"
+_T21_LOC = "Denselayer (200 units)\tGRU (256 units)"
+_T21_CLS = "3×3 convolution (96 filters)\t3×3 convolution (32 filters)"
+_T21_DENSE = "Denselayer (400 units)\tDenselayer (400 units)"
+
+
+def _setup(table, artifact, variable, value, unit, source, pos, row, config, form="value",
+           coords=()) -> PaperValue:
+    return entry(table=table, artifact=artifact, variable=variable, value=value, unit=unit,
+                 source=source, pos=pos, row=row, coords=coords, config=config,
+                 config_form=form, note="stated setup")
+
+
+def _setup_entries() -> list[PaperValue]:
+    """The setup §2.5 and Tab. 2.1 state, each naming the config path of our value."""
+    out = [
+        _setup("§2.5", "sec2.5", "n_train", 60000.0, "1", _SIZES, 0, "training sequences",
+               "ch2.data.n_train"),
+        _setup("§2.5", "sec2.5", "n_valid", 10000.0, "1", _SIZES, 1, "validation sequences",
+               "ch2.data.n_valid"),
+        _setup("§2.5", "sec2.5", "n_test", 10000.0, "1", _SIZES, 2, "test sequences",
+               "ch2.data.n_test"),
+        _setup("§2.5", "sec2.5", "n_digits", 3.0, "1", _CANVAS, 0, "digits per sequence",
+               "ch2.data.n_digits"),
+        _setup("§2.5", "sec2.5", "canvas", 100.0, "1", _CANVAS, 1, "canvas side [px]",
+               "ch2.data.canvas"),
+        _setup("§2.5", "sec2.5", "max_slope_deg", 45.0, "degree", _CLUTTER, 0,
+               "slope of the sequence", "ch2.data.max_slope_deg"),
+        _setup("§2.5", "sec2.5", "n_clutter", 8.0, "1", _CLUTTER, 1, "clutter patches",
+               "ch2.data.n_clutter"),
+        _setup("§2.5", "sec2.5", "clutter_size", 9.0, "1", _CLUTTER, 2, "clutter patch side [px]",
+               "ch2.data.clutter_size"),
+    ]
+    for model, col in (("ffn_spn", 0), ("rnn_spn", 1)):
+        m = (("model", model),)
+        loc = ("loc_dense", 200.0) if model == "ffn_spn" else ("gru_units", 256.0)
+        out += [
+            _setup("Tab. 2.1", "table2_1", "loc_filters", 20.0, "1", _T21_CONV, 2 + 3 * col,
+                   "localisation convolutions", f"ch2.{model}.loc_filters", coords=m),
+            _setup("Tab. 2.1", "table2_1", loc[0], loc[1], "1", _T21_LOC, col,
+                   "localisation dense layer / GRU", f"ch2.{model}.{loc[0]}", coords=m),
+            _setup("Tab. 2.1", "table2_1", "cls_filters", (96.0, 32.0)[col], "1", _T21_CLS,
+                   2 + 3 * col, "classifier convolutions", f"ch2.{model}.cls_filters",
+                   coords=m),
+            _setup("Tab. 2.1", "table2_1", "cls_dense", 400.0, "1", _T21_DENSE, col,
+                   "classifier dense layer", f"ch2.{model}.cls_dense", coords=m),
+        ]
+    for d in (1, 2, 3):  # the rows of Tab. 2.2: every d is trained
+        out.append(_setup("Tab. 2.2", "table2_2", "downsample", float(d), "1",
+                          _ROWS[("ffn_spn", d)][0], 0, f"d = {d}", "ch2.grid.downsample",
+                          "contains", coords=(("d", d),)))
+    return out
+
+
 ENTRIES: tuple[PaperValue, ...] = (
     *_table2_2(),
+    *_setup_entries(),
     entry(
         table="§2.5", artifact="table2_2", variable="best_test_error",
         coords=(("transform", "chirp_z"),), value=1.8, unit="percent",

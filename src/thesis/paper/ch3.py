@@ -88,6 +88,9 @@ _UNSTATED_F = ("the frequency of this comparison is not stated (the spline value
                "the half-ellipse gait is said to walk 0.30 m/s at 1.5 Hz in §3.3.3, so 0.27 "
                "may be another frequency)")
 
+_S_PSO = ("By using 10 particles, 10 generations and a duration of 10 seconds per run with 1 "
+          "second transition time, the optimizationwas done in less than 30 minutes.")
+
 _PROSE = (
     entry(table="§3.3.1.3", artifact="fig3_4", variable="speed",
           coords=(("gait", "spline"), ("frequency", 1.5)), value=0.41, unit="m/s",
@@ -120,11 +123,13 @@ _PROSE = (
           row="spline gait"),
     entry(table="§3.3.1.2", artifact="sec3.3.1.2", variable="pso_particles", value=10.0,
           unit="1", pos=0, row="half-ellipse optimisation",
+          config="ch3.pso.half_ellipse.particles",
           source="By using 10 particles, 10 generations and a duration of 10 seconds per run "
                  "with 1 second transition time, the optimizationwas done in less than 30 "
                  "minutes."),
     entry(table="§3.3.1.2", artifact="sec3.3.1.2", variable="pso_generations", value=10.0,
           unit="1", pos=1, row="half-ellipse optimisation",
+          config="ch3.pso.half_ellipse.generations",
           source="By using 10 particles, 10 generations and a duration of 10 seconds per run "
                  "with 1 second transition time, the optimizationwas done in less than 30 "
                  "minutes."),
@@ -133,12 +138,20 @@ _PROSE = (
           source="By using 10 particles, 10 generations and a duration of 10 seconds per run "
                  "with 1 second transition time, the optimizationwas done in less than 30 "
                  "minutes."),
+    entry(table="§3.3.1.2", artifact="sec3.3.1.2", variable="run_seconds", value=10.0,
+          unit="s", pos=2, row="half-ellipse optimisation: evaluation per particle",
+          config="ch3.pso.half_ellipse.run_seconds", source=_S_PSO),
+    entry(table="§3.3.1.2", artifact="sec3.3.1.2", variable="transition_seconds", value=1.0,
+          unit="s", pos=3, row="half-ellipse optimisation: transition between particles",
+          config="ch3.pso.half_ellipse.transition_seconds", source=_S_PSO),
     entry(table="§3.3.1.3", artifact="sec3.3.1.3", variable="pso_particles", value=20.0,
           unit="1", pos=0, row="spline optimisation",
+          config="ch3.pso.spline.particles",
           source="we used the PSO algorithm with 20 particles, 20 generations and a duration "
                  "of five seconds per run with one second of transition time."),
     entry(table="§3.3.1.3", artifact="sec3.3.1.3", variable="pso_generations", value=20.0,
           unit="1", pos=1, row="spline optimisation",
+          config="ch3.pso.spline.generations",
           source="we used the PSO algorithm with 20 particles, 20 generations and a duration "
                  "of five seconds per run with one second of transition time."),
     entry(table="§3.3.1.3", artifact="sec3.3.1.3", variable="optimisation_minutes",
@@ -146,12 +159,21 @@ _PROSE = (
           source="This way, we were able to optimize the gait in about 40 minutes"),
     entry(table="§3.3.2.1", artifact="sec3.3.2.1", variable="reduced_step_size", value=20.0,
           unit="mm", pos=0, row="step-size turning",
+          config="ch3.turning.reduced_a",
           source="The step size on one side of the robot could be reduced to 20 mm without "
                  "causing disruptions in the gait dynamics"),
     entry(table="§3.3.2.5", artifact="sec3.3.2.5", variable="max_sidewise_step", value=4.2,
           unit="cm", pos=2, row="scapulae range",
           source="about 5° of adduction and 10° of abduction, so the maximal theoretical "
                  "sidewise step is about 4.2 cm"),
+    entry(table="§3.3.2.5", artifact="sec3.3.2.5", variable="max_yaw", value=20.0,
+          unit="degree", pos=0, row="scapulae turning: rotation of the foot loci",
+          config="ch3.turning.yaw_deg",
+          source="In our experiments, we used a maximum rotation of the foot trajectories aroud "
+                 "the vertical axis of 20° ."),
+    entry(table="§3.3.3", artifact="sec3.3.3", variable="turning_frequency", value=1.5,
+          unit="Hz", source=_S_TURN, pos=0, row="gait frequency of both turning strategies",
+          config="ch3.turning.frequency"),
     entry(table="§3.3.3", artifact="table3_2", variable="forward_speed", value=0.30,
           unit="m/s", source=_S_TURN, pos=1, row="gait used for turning, straight ahead",
           note="the gait (1.5 Hz) both turning strategies use"),

@@ -76,9 +76,11 @@ _PEND = ("We observe that a controller with 1,065,888 parameters is able to lear
          "keep the pendulum stable from pixels after only 2420 episodes of 3 model seconds.")
 
 
-def _e(table, artifact, variable, value, unit, source, pos, row, coords=(), note=""):
+def _e(table, artifact, variable, value, unit, source, pos, row, coords=(), note="",
+       config="", form="value"):
     return entry(table=table, artifact=artifact, variable=variable, value=value, unit=unit,
-                 source=source, pos=pos, row=row, coords=coords, note=note)
+                 source=source, pos=pos, row=row, coords=coords, note=note, config=config,
+                 config_form=form)
 
 
 _PROSE = (
@@ -110,7 +112,8 @@ _PROSE = (
        "This controller has 17 284 parameters in total.", 0, "arm controller, fixed target"),
     _e("§7.3.2.1", "arm_fixed", "cmaes_evaluations_without_convergence", 60000.0, "1",
        "After a week of computing and 60 000 model evaluations, CMA-ES did not show any sign of "
-       "convergence, as it cannot handle the sheer amount of parameters.", 0, "CMA-ES"),
+       "convergence, as it cannot handle the sheer amount of parameters.", 0, "CMA-ES",
+       config="ch7.arm_fixed.cmaes.evaluations"),
     _e("§7.3.2.2", "arm_random", "updates", 576.0, "1", _ARM2, 0,
        "mean distance below 10 cm", (("threshold_m", 0.1),)),
     _e("§7.3.2.2", "arm_random", "updates", 2563.0, "1", _ARM2, 2,
@@ -120,12 +123,12 @@ _PROSE = (
        "parameters in total.", 2, "arm controller, random targets"),
     _e("§7.3.2.2", "arm_random", "batch", 128.0, "1",
        "In order to train for this task, we use a batch size of 128 robots, such that every "
-       "update step takes 58 s on GPU.", 0, "robots per update"),
+       "update step takes 58 s on GPU.", 0, "robots per update", config="ch7.arm_random.batch"),
     _e("§7.3.3", "quadruped_gait", "hand_tuned_speed", 0.7, "m/s",
        "With hand tuning on the robot model shown in Figure 7.3b, we were able to obtain a "
        "trotting motion with an average forward speed of 0.7 m/s.", 1, "hand-tuned trot"),
     _e("§7.3.3", "quadruped_gait", "evaluations", 500.0, "1", _GAIT, 0,
-       "BPTT optimisation budget"),
+       "BPTT optimisation budget", config="ch7.gait.evaluations"),
     _e("§7.3.3", "quadruped_gait", "speed", 1.17, "m/s", _GAIT, 2,
        "after 500 model evaluations", (("evaluations", 500),),
        "a hopping gait with a somersault every 3 steps"),
@@ -139,9 +142,90 @@ _PROSE = (
     _e("§7.3.3.1", "pendulum_pixels", "n_params", 1065888.0, "1", _PEND, 0,
        "pixel controller"),
     _e("§7.3.3.1", "pendulum_pixels", "episode_seconds", 3.0, "s", _PEND, 2,
-       "model seconds per episode"),
+       "model seconds per episode", config="ch7.pendulum.episode_s"),
     _e("§7.3.3.1", "pendulum_pixels", "optimisation_hours", 15.0, "h",
        "The complete optimization process took 15 hours.", 0, "whole optimisation"),
 )
 
-ENTRIES: tuple[PaperValue, ...] = (*_table7_1(), *_PROSE)
+_SERVOS = ("The servos have a gain of 30 s^{-1} , a torque of 30 Nm and a velocity of "
+           "$45^{\\circ} \\text{ s}^{-1}$.")
+_ARM1_NET = ("As a controller, we use a dense neural network with 1 input, 2 hidden layers of 128 "
+             "units with a rectifier activation function, and 4 outputs with an identity "
+             "activation function.")
+_ARM2_NET = ("We used 3 hidden layers with 1024 units each, so the controller has 2 107 396 "
+             "parameters in total.")
+_ARM2_SIM = "Each simulation takes 8 s with a simulation step of 0.01 s."
+_GAIT_NET = ("On top of this, we added 2 hidden layers of 128 units and a rectifier activation "
+             "function.")
+_BALL_TASK = ("The ball starts off at position (0,0). After 5 s it should be at position (10,0) "
+              "with zero velocity v and zero angular velocity ω .")
+_BALL_TOL = ("We optimized the initial velocity v_0 and angular velocity ω_0 at time t = 0 s "
+             "until the errors at t = 5 s are less than 0.01 m and 0.01 m/s respectively.")
+_T71_CAPTION = ("The numbers are the time required in seconds for simulating the quadruped "
+                "robot(s) for 10 s, with and without updating the controller parameters through "
+                "gradient descent.")
+
+#: The setup chapter 7 states, each naming the config path of the pipeline's value.
+_SETUP = (
+    _e("§7.2.1", "ball", "horizon_s", 5.0, "s", _BALL_TASK, 2, "time of the target",
+       config="ch7.ball.horizon_s"),
+    _e("§7.2.1", "ball", "target_x", 10.0, "m", _BALL_TASK, 3, "target x",
+       config="ch7.ball.target_xy", form="item:0"),
+    _e("§7.2.1", "ball", "target_y", 0.0, "m", _BALL_TASK, 4, "target y",
+       config="ch7.ball.target_xy", form="item:1"),
+    _e("§7.2.1", "ball", "tol_position_m", 0.01, "m", _BALL_TOL, 2, "position tolerance",
+       config="ch7.ball.tol_position_m"),
+    _e("§7.2.1", "ball", "tol_velocity_mps", 0.01, "m/s", _BALL_TOL, 3, "velocity tolerance",
+       config="ch7.ball.tol_velocity_mps"),
+    _e("§7.3.1", "table7_1", "simulated_seconds", 10.0, "s", _T71_CAPTION, 0,
+       "simulated time per timed rollout", config="physics.bench.simulated_seconds"),
+    _e("Tab. 7.1", "table7_1", "robots", 1.0, "1", _T71_S[0][2], 0, "#robots, first row",
+       coords=(("batch", 1),), config="physics.bench.batches", form="contains"),
+    _e("Tab. 7.1", "table7_1", "robots", 128.0, "1", _T71_S[2][2], 0, "#robots, third row",
+       coords=(("batch", 128),), config="physics.bench.batches", form="contains"),
+    _e("§7.3.2", "arm_fixed", "servo_torque", 30.0, "N m", _SERVOS, 2, "arm servo torque",
+       config="ch7.arm_fixed.servo_torque"),
+    _e("§7.3.2", "arm_random", "servo_torque", 30.0, "N m", _SERVOS, 2, "arm servo torque",
+       config="ch7.arm_random.servo_torque"),
+    _e("§7.3.2.1", "arm_fixed", "target", 0.5, "m", "at coordinates (0.5 m; 0.5 m; 0.5 m)", 0,
+       "fixed target, every coordinate", config="ch7.arm_fixed.target", form="each"),
+    _e("§7.3.2.1", "arm_fixed", "hidden_layers", 2.0, "1", _ARM1_NET, 1,
+       "hidden layers of the controller", config="ch7.arm_fixed.hidden", form="length"),
+    _e("§7.3.2.1", "arm_fixed", "hidden_units", 128.0, "1", _ARM1_NET, 2,
+       "units per hidden layer", config="ch7.arm_fixed.hidden", form="each"),
+    _e("§7.3.2.1", "arm_fixed", "learning_rate", 0.001, "1",
+       "The parameters are optimized with Adam's rule [25] with a learning rate of 0.001.", 1,
+       "Adam learning rate", config="ch7.arm_fixed.learning_rate"),
+    _e("§7.3.2.1", "arm_fixed", "episode_s", 8.0, "s",
+       "averaged over the 8 seconds we simulate our model", 0, "simulated time per evaluation",
+       config="ch7.arm_fixed.episode_s"),
+    _e("§7.3.2.2", "arm_random", "hidden_layers", 3.0, "1", _ARM2_NET, 0,
+       "hidden layers of the controller", config="ch7.arm_random.hidden", form="length"),
+    _e("§7.3.2.2", "arm_random", "hidden_units", 1024.0, "1", _ARM2_NET, 1,
+       "units per hidden layer", config="ch7.arm_random.hidden", form="each"),
+    _e("§7.3.2.2", "arm_random", "episode_s", 8.0, "s", _ARM2_SIM, 0,
+       "simulated time per robot", config="ch7.arm_random.episode_s"),
+    _e("§7.3.2.2", "arm_random", "dt", 0.01, "s", _ARM2_SIM, 1, "simulation step",
+       config="ch7.arm_random.dt"),
+    _e("§7.3.3", "quadruped_gait", "hidden_layers", 2.0, "1", _GAIT_NET, 0,
+       "hidden layers of the controller", config="ch7.gait.hidden", form="length"),
+    _e("§7.3.3", "quadruped_gait", "hidden_units", 128.0, "1", _GAIT_NET, 1,
+       "units per hidden layer", config="ch7.gait.hidden", form="each"),
+    _e("§7.3.3", "quadruped_gait", "frequency_hz", 1.5, "Hz",
+       "a sine and a cosine signal with a frequency of 1.5 Hz", 0, "input frequency",
+       config="ch7.gait.frequency_hz"),
+    _e("§7.3.3", "quadruped_gait", "episode_s", 10.0, "s",
+       "maximize the average velocity of the spine over the course of 10 s of time in "
+       "simulation", 0, "simulated time per evaluation", config="ch7.gait.episode_s"),
+    _e("§7.3.3", "quadruped_gait", "servo_torque", 4.0, "N m",
+       "despite limiting the torque of the servos to 4 Nm on this 28.7 kg robot", 0,
+       "servo torque bound", config="ch7.gait.servo_torque"),
+    _e("§7.3.3.1", "pendulum_pixels", "pixels_width", 288.0, "1",
+       "The resolution used is 288 by 96 pixels.", 0, "camera width [px]",
+       config="ch7.pendulum.pixels", form="item:0"),
+    _e("§7.3.3.1", "pendulum_pixels", "pixels_height", 96.0, "1",
+       "The resolution used is 288 by 96 pixels.", 1, "camera height [px]",
+       config="ch7.pendulum.pixels", form="item:1"),
+)
+
+ENTRIES: tuple[PaperValue, ...] = (*_table7_1(), *_PROSE, *_SETUP)

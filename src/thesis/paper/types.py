@@ -50,6 +50,36 @@ def normalise_ws(text: str) -> str:
     return " ".join(text.split())
 
 
+#: How a setup number relates to its config value (:attr:`PaperValue.config_form`).
+CONFIG_FORMS = ("value", "each", "length", "contains")
+
+
+def _same(a: object, b: object) -> bool:
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b or a == b
+    try:
+        return abs(float(a) - float(b)) <= 1e-9 * max(1.0, abs(float(a)))
+    except (TypeError, ValueError):
+        return a == b
+
+
+def config_matches(stated: object, form: str, value: object) -> bool:
+    """Whether config ``value`` is the thesis's ``stated`` setup number under ``form``."""
+    items = list(value) if isinstance(value, (list, tuple)) else None
+    if form == "value":
+        return items is None and _same(stated, value)
+    if items is None:
+        return False
+    if form == "each":
+        return bool(items) and all(_same(stated, v) for v in items)
+    if form == "length":
+        return _same(stated, len(items))
+    if form == "contains":
+        return any(_same(stated, v) for v in items)
+    i = int(form.split(":", 1)[1])
+    return i < len(items) and _same(stated, items[i])
+
+
 def make_key(artifact: str, coords: tuple[tuple[str, object], ...], variable: str) -> str:
     """``artifact/dim=value/.../variable``: the key of a published number."""
     parts = [artifact, *(f"{k}={v}" for k, v in coords), variable]
@@ -80,6 +110,13 @@ class PaperValue:
         variable: the dataset variable (``"test_error"``) or the quantity's name.
         coords: ``((dim, coord value), ...)`` selecting the cell in the dataset.
         same_as: key of the entry whose printed value a ditto mark repeats.
+        config: for a number of the thesis's stated *setup* (a size, a torque, a duration
+            it says it used), the dotted config path that holds the pipeline's value,
+            e.g. ``"ch7.arm_fixed.servo_torque"``; empty for results.
+        config_form: how ``value`` relates to the config value at ``config``
+            (:data:`CONFIG_FORMS`): ``"value"`` equal, ``"each"`` every list item equal,
+            ``"length"`` the list's length, ``"item:<i>"`` its i-th item, ``"contains"``
+            one of its items.
     """
 
     key: str
@@ -95,6 +132,18 @@ class PaperValue:
     variable: str = ""
     coords: tuple[tuple[str, object], ...] = field(default_factory=tuple)
     same_as: str | None = None
+    config: str = ""
+    config_form: str = "value"
+
+    def __post_init__(self) -> None:
+        if self.config_form not in CONFIG_FORMS and not (
+                self.config_form.startswith("item:") and self.config_form[5:].isdigit()):
+            raise ValueError(f"paper value {self.key!r}: config_form {self.config_form!r} not "
+                             f"in {CONFIG_FORMS} or 'item:<i>'")
+
+    def matches_config(self, value: object) -> bool:
+        """Whether a config value equals the thesis's stated setup (see ``config_form``)."""
+        return config_matches(self.value, self.config_form, value)
 
     def coord_dict(self) -> dict[str, object]:
         """``coords`` as a dict, e.g. ``{"model": "ffn_spn", "d": 1}``."""
@@ -115,6 +164,8 @@ def entry(
     column: str = "",
     note: str = "",
     same_as: str | None = None,
+    config: str = "",
+    config_form: str = "value",
 ) -> PaperValue:
     """Build a :class:`PaperValue` whose key is derived from artifact, coords, variable."""
     return PaperValue(
@@ -131,4 +182,6 @@ def entry(
         variable=variable,
         coords=tuple(coords),
         same_as=same_as,
+        config=config,
+        config_form=config_form,
     )

@@ -23,14 +23,10 @@ from pathlib import Path
 from thesis import provenance, store
 from thesis.report.chapters import CHAPTERS
 from thesis.report import measurements
+from thesis.report import verdicts as V
 from thesis.report.model import NOT_RUN, Figure, Section, Table
 
-STATUS_COLOURS = {
-    "reproduced": "#1b7837",
-    "not_reproduced": "#b2182b",
-    "inconclusive": "#b8860b",
-    "not_run": "#777777",
-}
+STATUS_COLOURS = V.STATUS_COLOURS
 
 CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1200px;
@@ -131,60 +127,17 @@ def _figure_html(f: Figure) -> str:
             f"</b> {html.escape(f.title)}.{note}</figcaption></figure>")
 
 
-def _status_html(status: str) -> str:
-    colour = STATUS_COLOURS.get(status, "#777")
-    return (f'<span class="status" style="background:{colour}">'
-            f"{html.escape(status.replace('_', ' '))}</span>")
-
-
-def _kv_text(d) -> str:
-    if not d:
-        return ""
-    if isinstance(d, dict):
-        return "; ".join(f"{k} = {_short(v)}" for k, v in d.items())
-    return str(d)
-
-
-def _short(v) -> str:
-    if isinstance(v, float):
-        return f"{v:.4g}"
-    if isinstance(v, dict):
-        return "{" + _kv_text(v) + "}"
-    return str(v)
-
-
 def claims_table(claims: list[dict]) -> Table:
-    """The claims as a :class:`Table` (verdict shown as text)."""
-    rows = []
-    for c in claims:
-        rows.append([c.get("id", ""), c.get("wording", ""), _kv_text(c.get("paper")),
-                     _kv_text(c.get("measured")), c.get("statistic", ""),
-                     c.get("status", ""), c.get("detail", "")])
+    """The claims as a :class:`Table` (verdict and its reading shown as text)."""
+    rows = [[c.get("id", ""), c.get("quote", ""), V.paper_text(c.get("paper")),
+             V.kv_text(c.get("measured")), c.get("statistic", ""), c.get("reading", ""),
+             c.get("detail", ""), "; ".join(V.departure_text(d)
+                                            for d in c.get("departures", []))]
+            for c in claims]
     return Table(id="claims", title="Claims of the thesis and their verdicts",
                  thesis_ref="§2.6, §3.4, §4.8, §5.5, §6.7, §7.5, §8.1",
                  columns=["claim", "thesis says", "thesis numbers", "measured", "statistic",
-                          "verdict", "detail"], rows=rows)
-
-
-def _claims_html(claims: list[dict], chapter: str | None = None) -> str:
-    sel = [c for c in claims if chapter is None or c.get("chapter") == chapter]
-    if not sel:
-        return ""
-    rows = []
-    for c in sel:
-        rows.append(
-            "<tr>" + "".join([
-                f"<td>{html.escape(c.get('id', ''))}</td>",
-                f"<td>{html.escape(c.get('wording', ''))}</td>",
-                f"<td>{html.escape(_kv_text(c.get('paper')))}</td>",
-                f"<td>{html.escape(_kv_text(c.get('measured')))}</td>",
-                f"<td>{html.escape(c.get('statistic', ''))}</td>",
-                f"<td>{_status_html(c.get('status', 'not_run'))}"
-                f"<br><span class=note>{html.escape(c.get('detail', ''))}</span></td>",
-            ]) + "</tr>")
-    return ("<h3>Claims</h3><table><thead><tr><th>claim</th><th>thesis says</th>"
-            "<th>thesis numbers</th><th>measured</th><th>statistic</th><th>verdict</th>"
-            f"</tr></thead><tbody>{''.join(rows)}</tbody></table>")
+                          "verdict", "detail", "departures"], rows=rows)
 
 
 def wall_times(profile: str, root: Path = Path("benchmarks")) -> list[tuple[str, float]]:
@@ -221,7 +174,7 @@ def _provenance_html(profile: str, results: dict) -> str:
         f"{html.escape(provenance.git_commit()[:10])}"
         f"{' (dirty)' if provenance.git_dirty() else ''}; results from commit(s) "
         f"{html.escape(', '.join(commits) or 'none')}.</p>"
-        f"<p>Versions: {html.escape(_kv_text(versions))}. Host: {html.escape(provenance.host())}.</p>"
+        f"<p>Versions: {html.escape(V.kv_text(versions))}. Host: {html.escape(provenance.host())}.</p>"
         "<table><thead><tr><th>result</th><th>started</th><th>compute wall time [s]</th></tr>"
         f"</thead><tbody>{''.join(rows)}</tbody></table>"
         + ("<table><thead><tr><th>rule (snakemake benchmark)</th><th>wall time [s]</th></tr>"
@@ -235,12 +188,18 @@ def _page(title: str, body: str) -> str:
             f"<body>{body}</body></html>")
 
 
-def _summary_md(profile: str, sections: list[Section], claims: list[dict]) -> str:
+def _chapter_number(ch: str) -> int:
+    return int(ch.removeprefix("ch"))
+
+
+def _summary_md(profile: str, sections: list[Section], claims: list[dict],
+                results: dict) -> str:
     lines = [f"# Thesis reproduction — profile `{profile}`", ""]
-    counts: dict[str, int] = {}
-    for c in claims:
-        counts[c.get("status", "?")] = counts.get(c.get("status", "?"), 0) + 1
-    lines += ["Claims: " + ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in sorted(counts.items())), ""]
+    lines += ["Claims: " + ", ".join(f"{k} {v}" for k, v in V.counts(claims).items()), "",
+              "A verdict is *as stated* when no declared deviation from the thesis's setup is "
+              "in effect in the results it rests on, and *under a declared deviation* "
+              "otherwise; the deviations and the choices made where the thesis is silent are "
+              "listed beneath each verdict.", ""]
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not s.tables and not s.figures:
@@ -251,11 +210,13 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict]) -> st
                       "|" + "---|" * len(t.columns)]
             lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t.rows]
             lines += [""] + ([t.note, ""] if t.note else [])
-        for c in claims:
-            if c.get("chapter") == s.chapter:
-                lines.append(f"- **{c.get('status', '').replace('_', ' ')}** "
-                             f"`{c.get('id')}`: {c.get('detail', '')}")
-        lines.append("")
+        claim_lines = V.summary_lines(claims, _chapter_number(s.chapter))
+        if claim_lines:
+            lines += ["### Claims", "", *claim_lines, ""]
+        lines += V.summary_departures(V.chapter_departures(results, s.chapter))
+    conclusions = V.summary_lines(claims, 8)
+    if conclusions:
+        lines += ["## §8.1 — Conclusions", "", *conclusions, ""]
     return "\n".join(lines)
 
 
@@ -272,14 +233,13 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     sections = build_sections(results, outdir)
 
     nav = "".join(f'<a href="#{s.chapter}">{s.chapter}</a>' for s in sections)
-    counts: dict[str, int] = {}
-    for c in claims:
-        counts[c.get("status", "?")] = counts.get(c.get("status", "?"), 0) + 1
-    verdicts = " ".join(f"{_status_html(k)} {v}" for k, v in sorted(counts.items()))
+    verdicts = ", ".join(f"{html.escape(k)} <b>{v}</b>" for k, v in V.counts(claims).items())
     body = [f"<h1>Incorporating Prior Knowledge into Deep Neural Network Controllers of "
             f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
             f"<nav>{nav}<a href=#claims>claims</a><a href=#provenance>provenance</a></nav>",
-            f"<p>Claims: {verdicts or 'none evaluated'}</p>"]
+            f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
+            "declared deviation from the thesis's setup is in effect in the results it rests "
+            "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>"]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:
@@ -293,9 +253,15 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             with store.atomic_path(tables_dir / f"{s.chapter}_{t.id}.html") as tmp:
                 tmp.write_text(_page(t.title, frag))
         body.extend(_figure_html(f) for f in s.figures)
-        body.append(_claims_html(claims, s.chapter))
+        chapter_claims = V.claims_html(claims, _chapter_number(s.chapter))
+        if chapter_claims:
+            body.append("<h3>Claims</h3>" + chapter_claims)
+        body.append(V.departures_html(V.chapter_departures(results, s.chapter)))
+    conclusions = V.claims_html(claims, 8)
+    if conclusions:
+        body.append('<h2 id="ch8">§8.1 — Conclusions</h2>' + conclusions)
     body.append('<h2 id="claims">All claims</h2>')
-    all_claims = _claims_html(claims) or f'<p class="notrun">{NOT_RUN}</p>'
+    all_claims = V.claims_html(claims) or f'<p class="notrun">{NOT_RUN}</p>'
     body.append(all_claims)
     with store.atomic_path(tables_dir / "claims.html") as tmp:
         tmp.write_text(_page("Claims", all_claims))
@@ -304,7 +270,7 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     with store.atomic_path(index) as tmp:
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
-        tmp.write_text(_summary_md(profile, sections, claims))
+        tmp.write_text(_summary_md(profile, sections, claims, results))
     with store.atomic_path(outdir / "measurements.md") as tmp:
         tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index

@@ -1,0 +1,49 @@
+"""A deliberately broken engine fails the smoke regression (issue 26 item 3).
+
+The ch7 ball experiment is run in-process at the smoke profile, once as the pipeline
+runs it and once with the sign of the engine's gravity flipped; the first must agree
+with the committed reference ``tests/regression/smoke/ch7/ball.json``, the second must
+not. Slow: two smoke-sized runs of the experiment (compilation included).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import logging
+from pathlib import Path
+
+import jax
+import pytest
+
+from thesis import regression
+from thesis.config import load_config
+from thesis.runctx import RunContext
+
+pytestmark = pytest.mark.slow
+
+REFERENCE = Path(__file__).resolve().parents[1] / "regression" / "smoke" / "ch7" / "ball.json"
+
+
+def _smoke_ball():
+    from thesis.diffphys.ball import ball
+
+    cfg = load_config("smoke")
+    ctx = RunContext(key="ch7/ball", profile="smoke", config=cfg["ch7"], full_config=cfg,
+                     log=logging.getLogger("test"))
+    with jax.numpy_dtype_promotion("standard"):  # as in tests/diffphys/test_experiments.py
+        return ball(ctx)
+
+
+def test_flipped_gravity_fails_the_ball_regression(monkeypatch):
+    import thesis.diffphys.ball as ball_mod
+
+    ref = json.loads(REFERENCE.read_text())
+    assert regression.compare(_smoke_ball(), ref) == []
+
+    flipped = functools.partial(ball_mod.ball_model, gravity=(0.0, 0.0, 9.81))
+    monkeypatch.setattr(ball_mod, "ball_model", flipped)
+    problems = regression.compare(_smoke_ball(), ref)
+    assert problems, "a ball falling upwards passed the smoke regression"
+    # the simulated losses themselves move, not only bookkeeping
+    assert any("'gradient_loss'" in p or "'cmaes_loss'" in p for p in problems), problems
