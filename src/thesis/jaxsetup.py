@@ -33,7 +33,7 @@ def xla_flags(jax_config: dict, flags: str = "", machine: str | None = None) -> 
     x86-64 CPU that has that ISA: the smoke profile's ch3 results differed beyond 1e-3
     between an AVX2 machine and an AVX-512 one (a turning gait's yaw by 5.6 degrees) and
     agree to 1e-6 relative with ``AVX2`` on both. AVX2 is also faster for the engine here (64
-    quadrupeds on one core, Nov 2026: forward 3.96 -> 3.25 s, gradient 16.0 -> 15.5 s per
+    quadrupeds on one core: forward 3.96 -> 3.25 s, gradient 16.0 -> 15.5 s per
     10 simulated seconds) and ~5 % slower for ch2's convolutions. A flag the user already
     set is left alone.
     """

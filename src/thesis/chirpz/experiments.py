@@ -20,7 +20,7 @@ initial weights (the three differ only in the localisation network's zero-initia
 output layer, whose bias is each transform's identity), the same minibatch order and the
 same dropout masks (:func:`_stream` leaves the transform out). The ch2 claims compare
 transforms by per-seed differences, which then measure the transforms, not three
-independent initialisations. Before (streams named by transform; Nov 2026), FFN-SPN
+independent initialisations. Before (streams named by transform), FFN-SPN
 chirp-Z seed 1 started far slower than any other cell (test error .333-.352 against
 no-skew's .185-.206) and dominated both "chirp-Z performs like" comparisons, whose per-seed
 pairing then paired nothing.

@@ -19,7 +19,7 @@ both errors are below their tolerances (0.01 m and 0.01 m/s) or the budget is sp
 Wall times exclude compilation (each jitted function is compiled once before the clock
 starts; compile times are stored as attributes).
 
-Why gradient descent can stall here (measured, float64, Nov 2026). From seed 0 Adam
+Why gradient descent can stall here (measured, float64). From seed 0 Adam
 ends at v0 ~ (3.09, -0.33, -2.05), w0 ~ (-1.77, -1.93, 0): the ball is at the target
 (position error < 0.03 m) but rolls at 1.93 m/s (velocity error 4.3). The gradient is
 right: AD equals central differences to 5 digits in all six components
@@ -47,7 +47,7 @@ right: AD equals central differences to 5 digits in all six components
 The time-of-impact correction (``physics.step.toi_correction``, config
 ``ch7.ball.toi_correction``, on by default) restores the landing-time derivative (at the
 point above: AD 0.0676 m per m/s against the secant 0.068;
-``tests/diffphys/test_ball.py``). Measured with it (default profile, 3 seeds, Nov 2026):
+``tests/diffphys/test_ball.py``). Measured with it (default profile, 3 seeds):
 gradient descent now raises the throw on seeds 0 and 2 (v_z 13.5 m/s, backspin
 -16.5 / -13.5 rad/s, the family CMA-ES converges to) but still ends unconverged (loss
 3.59 / 4.28 / 3.69 against 4.34 / 4.19 / 4.15 without), with a gradient norm of about 4 at

@@ -28,7 +28,7 @@ velocity change of the last step. Why attitude: the original engine has no accel
 finite-difference reading makes the exact gradient of Tab. 7.1 meaningless: its
 derivative w.r.t. velocity is ~1/dt, and through the controller and the servos it closes
 a loop whose tangent grows ~x1.3 per step, so the 10-s gradient overflows float32
-(measured Nov 2026, batch 1, 1,296 parameters, output gain 0.1: norm 9e4 after 50 steps,
+(batch 1, 1,296 parameters, output gain 0.1: norm 9e4 after 50 steps,
 1e34 after 400, NaN from 700 on; with the accelerometer's gradient cut, 8e3 after 1,000).
 The second loop is the joint velocities: a servo below its torque limit turns a target
 change into a joint rate change of ``servo gain`` (50 s^-1) times as much, so an output
@@ -91,7 +91,7 @@ def init_controller(key, sizes, *, output_gain: float = 0.1, dtype=jnp.float32) 
     stored transposed (the same weights as before the layout change): a single robot's
     step is a matrix-vector product, and XLA's CPU GEMV over contiguous rows (``W @ x``)
     beats ``x @ W`` by about a third on the 1024 x 1024 layer (1 000 products of the
-    1,147,904-weight network: 0.09-0.11 s against 0.13-0.15 s, Nov 2026, this machine).
+    1,147,904-weight network: 0.09-0.11 s against 0.13-0.15 s).
     """
     keys = jax.random.split(key, len(sizes) - 1)
     last = len(sizes) - 2

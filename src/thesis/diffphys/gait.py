@@ -13,31 +13,15 @@ evaluated there (before the k-th update); ``final_speed`` re-evaluates the param
 after the last update. A strip of frames of the learned gait (first seed) is rendered
 with the engine's camera from a tracking camera added to a copy of the model.
 
-Measured (default settings, seed 0, 200 evaluations, Nov 2026; for the thesis's speed
-after 500 see ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``): with the
-thesis's 4 N m the first updates bend the legs, the robot collapses onto its belly (it
-cannot lift 28.7 kg back up) and the speed stays at 0.045 m/s, the 0.45 m of the fall, for
-all 200 evaluations. The original engine's torque clip was not a real bound
-(``ch7.gait.servo_torque``); with 20 N m the robot sits on its rear legs and creeps (0.048
-m/s), with 80 N m (20 sweeps x 4 N m, the quirk's upper bound) it turns over and wiggles
-on its back (0.074 m/s, noisy between 0.03 and 0.11). At the start the decayed gradient
-(alpha 0.95) has a cosine of -0.21 with the exact one (norms 1.6 and 43) yet is an ascent
-direction (directional difference +0.66); after the collapse it is not (-0.04).
-
-500 evaluations at 40 N m (``--set ch7.gait.evaluations=500 --set
-ch7.gait.servo_torque=40``, 3 seeds, 7.3-8.2 min each, Nov 2026): the robot learns to
-shuffle forward, speed at evaluation 500 0.174 / 0.130 / 0.144 m/s (means over
-evaluations 451-500: 0.141 / 0.265 / 0.135; final 0.161 / 0.171 / 0.149), about a sixth
-of the thesis's speed (``thesis.paper``), so the default stays at the thesis's 4 N m.
-
-More probes (Nov 24 2026, seed 0, 150 evaluations unless noted; speed at the last
-evaluation, best seen in brackets): the original script's numerics (dt 0.005 s, 40 solver
-sweeps, 8-s episodes) at 40 N m 0.040 (0.127) and at 160 N m (40 sweeps x 4 N m) 0.027
-(0.048) m/s; dt 0.01 s at 40 N m with alpha 0.99 0.020 (0.099); Adam at 0.01 instead of the
-original's 0.001: 4 N m 0.035, 40 N m 0.285 (0.397), 80 N m 0.150 (0.41); 500 evaluations
-at 40 N m and 0.01: seed 0 -0.017 (0.397 at evaluation 88, then it fell back), seed 1
-0.181 (0.233). No setting came near the thesis's speed (``thesis.paper``); the curves are
-noisy from one evaluation to the next (the rollout is chaotic).
+Why the default keeps the thesis's 4 N m (default settings, seed 0; the thesis's speed
+after 500 evaluations is ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``):
+with it the first updates bend the legs and the 28.7 kg robot collapses onto its belly for
+good (0.045 m/s, the 0.45 m of the fall). The original engine's torque clip was not a real
+bound (``ch7.gait.servo_torque``), but stronger bounds do not give a gait either: 20 N m
+sits and creeps, 80 N m turns over, 40 N m for 500 evaluations learns to shuffle at about
+a sixth of the thesis's speed; the original script's numerics (dt 0.005 s, 40 sweeps, 8-s
+episodes) and a larger Adam step did not come near it. The curves are noisy from one
+evaluation to the next (the rollout is chaotic).
 
 The hand-tuned trot (§7.3.3, 0.7 m/s) is reproduced as a search
 (:mod:`thesis.diffphys.trot`, config ``ch7.gait.trot``): every open-loop trot of a grid

@@ -15,8 +15,8 @@ not given, the original code used the distance alone, so ``speed_weight`` defaul
 Gradients flow through the camera images into the states (the point of the differentiable
 camera), are decayed by ``grad_decay`` per step and clipped; Adam updates once per episode.
 
-Why no speed term by default (measured, default profile: 48 x 16 pixels, MLP, seed 0, Nov
-2026): a swing raises the tip speed before it brings the tip closer, so with
+Why no speed term by default (measured, default profile: 48 x 16 pixels, MLP, seed 0):
+a swing raises the tip speed before it brings the tip closer, so with
 ``speed_weight`` 0.1 the hanging state is a local minimum. 300 training episodes left the
 loss at 1.23 -> 1.22 (the pendulum never rose above 174 degrees from upright), and even
 open-loop BPTT on 300 free sled targets (no camera, exact gradient or alpha 0.99, Adam 0.01)

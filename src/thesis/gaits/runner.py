@@ -135,7 +135,7 @@ def protocol_commands(family, p_from, p_to, t, settle, t_transition):
     the outgoing gait ``p_from``'s pose at phase 0 and the robot stands there; then the
     §3.2.5 transition from ``p_from`` to ``p_to`` starts at phase 0. Without the easing
     the first command jumps from the build pose to an arbitrary gait pose: measured on
-    the default profile (Nov 2026, seed 0), 5 of 24 robots of a first PSO generation were
+    the default profile (seed 0), 5 of 24 robots of a first PSO generation were
     thrown over within the 0.5 s settle, before the gait under test had started.
     """
     dtype = jnp.asarray(p_to).dtype
@@ -214,7 +214,7 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
     towards gaits that fall later). Eq. 3.3 presumes a robot that walks on the treadmill;
     a robot lying on its side hardly moves and keeps the LED still, so its eq. 3.3 value
     (about 0) beats every walking gait whose wobble costs more than its distance gains.
-    Measured (Nov 2026, default profile, seed 0): in the first PSO generation 22 of 24
+    Measured (default profile, seed 0): in the first PSO generation 22 of 24
     robots fell, and the best eq. 3.3 values of the sine and spline swarms (-0.03 and
     0.19) were robots lying on their side. An unphysical simulation scores ``-inf``.
 
