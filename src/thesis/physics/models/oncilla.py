@@ -152,8 +152,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             default: the four toe spheres, which carry the robot), ``"all"`` (the trunk
             bumpers too, which touch the ground only when the robot has fallen; with K = 2
             that is 16 field contacts instead of 8, and the cell grows to the bumpers'
-            reach) or contact-sphere indices. Without it the model is the one every
-            chapter used before the option.
+            reach) or contact-sphere indices. Without it the floor is the plain plane.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
     geom = geom or L.oncilla_geometry()
@@ -161,8 +160,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation,
                 restitution=restitution, contact_slop=0.001)
-    # the floor's own material (same values as the builder's default, which the bumpers
-    # and toes used before), so a terrain can change it: terrain.set_material("floor")
+    # the floor's own material (same values as the builder's default material), so that a
+    # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, 0.25 / float(dt), 1.0)
     b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)
