@@ -378,8 +378,8 @@ class Builder:
         material's ``friction_forward`` times the normal force while the sphere slides
         forward along it and ``friction_backward`` while it slides backward; the second
         (lateral) row by ``friction``. Without a direction the friction pyramid is the
-        isotropic one (and the model compiles to the same program as before the option
-        existed)."""
+        isotropic one (and the model compiles to the same program as one built without
+        the option)."""
         if direction is not None:
             direction = np.asarray(direction, np.float64).reshape(3)
             if not np.linalg.norm(direction) > 0:

@@ -12,7 +12,7 @@ A static sphere field (``Builder.add_sphere_field``: pebbles, rough ground, thou
 world-fixed spheres) adds a fixed number of contacts after the pairs: each query sphere
 against its ``k`` nearest field spheres, chosen every step among the spheres of the 3 x 3
 cells of a uniform x-y grid around it (:func:`field_contacts`). Listing N pebbles as
-pairs costs rows for all of them (the Oncilla ran 7.5x slower with 100 pebbles, 32x with
+pairs costs rows for all of them (7.5x the Oncilla's cost with 100 pebbles, 32x with
 400, CH456 §1.2); the grid keeps the cost independent of N.
 
 Collision functions are kept in a static table keyed by (GeomType, GeomType).

@@ -87,8 +87,7 @@ def batched_rollout(model: Model, states0: State, controller, params, n_steps: i
     map, kept so that existing results stay bit-for-bit; with the profile's XLA flags
     (``thesis.jaxsetup.xla_flags``) ``chunk=None`` is the faster choice on CPU too
     (64 robots on one core, engine alone, per robot-step: Tab. 7.1 quadruped 93 vs 128 us,
-    Oncilla 159 vs 213 us; Nov 2026; before those flags a vmapped robot cost ~3x a
-    sequential one). ``memory0`` is shared
+    Oncilla 159 vs 213 us). ``memory0`` is shared
     unless ``batch_memory=True``. Returns ``(final_states, trajectories)`` with a leading
     batch axis; results equal ``jax.vmap(rollout)`` up to float round-off.
 

@@ -34,15 +34,12 @@ batched model therefore gives :func:`solve` its own ``jax.vmap`` rule
 moved to robots-*last*, and the same per-step preparation and sweeps (written for a
 leading row axis and any trailing batch axes) run once over the batch with contiguous
 loops over robots; the impulses go back to bodies by a scatter-add over the leading body
-axis, whose rows are now contiguous runs of 6 x robots values (before, a vmapped model
-used a product with a static one-hot matrix instead of a strided per-robot scatter).
-Together with XLA's own reductions instead of YNNPACK fusions
-(``thesis.jaxsetup.xla_flags``), 64 quadrupeds on one core: one sweep 123 us (vmapped,
-one-hot) -> 35 us (robots-last, one-hot) -> 29 us (robots-last, scatter-add); the whole
-Tab. 7.1 forward at batch 128 over two cores 2.7 -> 1.4 -> 1.2 s (Nov 2026). A
-``custom_vjp`` around it keeps reverse-mode gradients available in either order of
-``jax.grad`` and ``jax.vmap`` (:func:`_batched_solver`). One robot runs the same code
-without batch axes (bit for bit the solver before the robots-last rule).
+axis, whose rows are contiguous runs of 6 x robots values. Together with XLA's own
+reductions instead of YNNPACK fusions (``thesis.jaxsetup.xla_flags``), one sweep over 64
+quadrupeds on one core costs about a quarter of the plain ``jax.vmap`` of the
+robots-first code. A ``custom_vjp`` around it keeps reverse-mode gradients available in
+either order of ``jax.grad`` and ``jax.vmap`` (:func:`_batched_solver`). One robot runs
+the same code without batch axes.
 """
 
 from __future__ import annotations
@@ -251,9 +248,8 @@ def _solve_batch_last(m: Model, idx, ref, is_fric, size, in_batched, args, mode=
     others are broadcast to ``size`` robots). ``mode=None``: the solve, returned robots
     first; ``mode="vjp"``: ``args = (inputs, cotangents of the outputs)`` and the rule
     returns the cotangents of the inputs (the solve is recomputed and pulled back).
-    Measured with 64 Tab. 7.1 quadrupeds on one core (Nov 2026): one sweep 29 us (123 us
-    vmapped robots-first), the preparation 260 us (597 us vmapped robots-first); the
-    whole closed-loop step, controller included, 0.65 ms with 1 sweep and 1.2 ms with 20.
+    With 64 Tab. 7.1 quadrupeds on one core the sweeps and the per-step preparation cost
+    roughly a quarter and a half of their vmapped robots-first versions.
     """
     def front(x, b):
         return x if b else jnp.broadcast_to(x, (size, *jnp.shape(x)))

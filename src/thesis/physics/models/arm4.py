@@ -29,7 +29,7 @@ same keys under ``ch7.arm_random``; defaults in ``config/schema.yaml``) and reco
 the datasets (``servo_torque_nm``, ``thesis_servo_torque_nm``, ``solver_iterations``):
 
 * torque: with the hand-computed inverse-kinematics command for the target held
-  constant (8 s, dt 0.01 s, 80 sweeps, measured 2026-11) 120 N m lets the arm collapse
+  constant (8 s, dt 0.01 s, 80 sweeps) 120 N m lets the arm collapse
   (with an unbounded torque the shoulder servo delivers ~136 N m at t = 1 s, while it
   stops the 45 deg/s swing, and once the arm sags its load exceeds the bound), 135 N m
   holds; 150 N m (1.6 x the static 92 N m, above that 136 N m) is the value used;

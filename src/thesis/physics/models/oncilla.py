@@ -14,8 +14,9 @@ its reason; nothing is fitted to a result of the thesis):
   the longest stride of Tab. 3.1 (2a = 182 mm) so fore and hind feet never collide.
 * **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (femur 65 mm, tibia
   70 mm, foot 40 mm, foot segment kept parallel to the femur), joint ranges from
-  :func:`thesis.gaits.leg.oncilla_geometry` (hip [-30, 65] deg, knee from the 100-167 mm
-  reach, scapula -5..+10 deg = "about 5 deg of adduction and 10 deg of abduction",
+  :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65] deg, knee
+  from the 100-167 mm reach, scapula -5..+10 deg = "about 5 deg of adduction and 10 deg
+  of abduction",
   §3.3.2.5). Bodies per leg: femur, knee drum, tibia, foot. The pantograph's parallel
   link (hip -> upper end of the foot segment, length = tibia) is massless and modelled
   as a stiff spring (``link_stiffness``) between the femur's hip point and the foot
@@ -72,7 +73,8 @@ its reason; nothing is fitted to a result of the thesis):
   wall (:func:`distance_sensor`).
 
 Servo order (``SERVO_NAMES``): per leg LF, RF, LH, RH the scapula, hip and knee: the
-order of :data:`thesis.gaits.leg.LEGS` x :data:`thesis.gaits.leg.JOINTS`.
+order of :data:`~thesis.physics.models.leg_geometry.LEGS` x
+:data:`~thesis.physics.models.leg_geometry.JOINTS`.
 """
 
 from __future__ import annotations
@@ -82,7 +84,7 @@ import math
 import jax.numpy as jnp
 import numpy as np
 
-from thesis.gaits import leg as L
+from thesis.physics.models import leg_geometry as L
 from thesis.physics.builder import Builder
 
 #: Total mass [kg] (FACTS §5).
@@ -160,8 +162,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             default: the four toe spheres, which carry the robot), ``"all"`` (the trunk
             bumpers too, which touch the ground only when the robot has fallen; with K = 2
             that is 16 field contacts instead of 8, and the cell grows to the bumpers'
-            reach) or contact-sphere indices. Without it the model is the one every
-            chapter used before the option.
+            reach) or contact-sphere indices. Without it the floor is the plain plane.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
     geom = geom or L.oncilla_geometry()
@@ -169,8 +170,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation,
                 restitution=restitution, contact_slop=0.001)
-    # the floor's own material (same values as the builder's default, which the bumpers
-    # and toes used before), so a terrain can change it: terrain.set_material("floor")
+    # the floor's own material (same values as the builder's default material), so that a
+    # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, 0.25 / float(dt), 1.0)
     b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)

@@ -1,0 +1,115 @@
+"""The architecture rules of DESIGN.md as tests (issue 26 item 4), from the imports that
+``ast`` finds in every module under src/thesis (top-level and function-local imports,
+``import thesis.x``, ``from thesis.x import y``, ``from thesis import x`` and relative
+imports alike).
+
+* Only ``thesis.claims`` and ``thesis.report`` import ``thesis.paper``: experiment code
+  never sees the numbers it is compared with.
+* The engine ``thesis.physics`` imports no chapter package (and nothing of the project
+  outside itself but the error types).
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import thesis
+
+SRC = Path(thesis.__file__).resolve().parent
+
+#: Packages of the chapters' experiment code (DESIGN.md, "Layout"): ch2 chirpz, ch3/4/6
+#: gaits, ch5 terrain, ch6 embodied, ch7 diffphys. Listed explicitly so that the rule
+#: does not depend on which of them exist yet in a checkout.
+CHAPTER_PACKAGES = ("thesis.chirpz", "thesis.gaits", "thesis.terrain", "thesis.embodied",
+                    "thesis.diffphys")
+#: What the engine may import of the project besides itself.
+PHYSICS_MAY_IMPORT = ("thesis.physics", "thesis.errors")
+#: The only packages that may import the thesis's published numbers.
+PAPER_READERS = ("thesis.claims", "thesis.report", "thesis.paper")
+
+
+def _module_name(path: Path, root: Path = SRC) -> str:
+    parts = ("thesis",) + path.relative_to(root).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imported_modules(path: Path, root: Path = SRC) -> set[str]:
+    """Absolute names of every module a source file imports; ``from a import b`` counts
+    as importing both ``a`` and ``a.b`` (``b`` may be a submodule)."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    here = _module_name(path, root)
+    package = here if path.name == "__init__.py" else here.rpartition(".")[0]
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            names.add(mod)
+            names.update(f"{mod}.{a.name}" for a in node.names)
+    return names
+
+
+def _within(name: str, packages) -> bool:
+    return any(name == p or name.startswith(p + ".") for p in packages)
+
+
+def _sources():
+    return sorted(SRC.rglob("*.py"))
+
+
+def _violations(select, forbidden) -> list[str]:
+    out = []
+    for path in _sources():
+        mod = _module_name(path)
+        if not select(mod):
+            continue
+        bad = sorted(n for n in imported_modules(path) if forbidden(n))
+        out += [f"{mod} imports {n}" for n in bad]
+    return out
+
+
+def test_only_claims_and_report_import_the_paper():
+    v = _violations(lambda m: not _within(m, PAPER_READERS),
+                    lambda n: _within(n, ("thesis.paper",)))
+    assert not v, "\n".join(v)
+
+
+def test_physics_imports_no_chapter_package():
+    v = _violations(lambda m: _within(m, ("thesis.physics",)),
+                    lambda n: _within(n, CHAPTER_PACKAGES))
+    assert not v, "\n".join(v)
+
+
+def test_physics_imports_nothing_else_of_the_project():
+    v = _violations(lambda m: _within(m, ("thesis.physics",)),
+                    lambda n: _within(n, ("thesis",)) and n != "thesis"
+                    and not _within(n, PHYSICS_MAY_IMPORT))
+    assert not v, "\n".join(v)
+
+
+@pytest.mark.parametrize("source, module, found", [
+    ("from thesis import paper\n", "thesis.optim.pso", True),
+    ("import thesis.paper.ch3 as p\n", "thesis.optim.pso", True),
+    ("def f():\n    from thesis.paper import table\n", "thesis.optim.pso", True),
+    ("from ..paper import x\n", "thesis.optim.pso", True),
+    ("from thesis import store\n", "thesis.optim.pso", False),
+    ("import thesis.papers_unrelated\n", "thesis.optim.pso", False),
+])
+def test_import_parser_finds_every_form(tmp_path, source, module, found):
+    """The checks above see function-local, aliased, ``from thesis import x`` and
+    relative imports (so a passing rule test is not a blind one)."""
+    root = tmp_path / "thesis"
+    path = root.joinpath(*module.split(".")[1:]).with_suffix(".py")
+    path.parent.mkdir(parents=True)
+    path.write_text(source)
+    hit = any(_within(n, ("thesis.paper",)) for n in imported_modules(path, root))
+    assert hit == found
