@@ -317,6 +317,31 @@ _SCORE_LONG = ("§4.6 score: window speed, or for a fallen robot -2 + the fracti
                "window it stayed up")
 
 
+def _particle_vars(dims, pos, fields) -> dict:
+    """Every evaluated particle of a run: position (dims + parameter) and its outcome (dims)."""
+    return dict(
+        position=(dims + ("parameter",), pos, dict(
+            units=_UNITS_MIXED, long_name="evaluated particle (spline parameters)")),
+        speed=(dims, fields["speed"], dict(
+            units="m s-1", long_name="mean forward speed of the trunk over the window")),
+        score=(dims, fields["score"], dict(units="m s-1", long_name=_SCORE_LONG)),
+        fallen=(dims, fields["fallen"], dict(units="1", long_name="1 if the robot fell")),
+        upright=(dims, fields["upright"], dict(
+            units="1", long_name="fraction of the window before the first fall")),
+        exploded=(dims, fields["exploded"], dict(
+            units="1", long_name="1 if the simulation went unphysical (counted fallen)")))
+
+
+def _reeval_vars(dims, re) -> dict:
+    """The best particles re-evaluated from standstill (dims end with 'repeat')."""
+    what = "of the best particle re-evaluated from standstill"
+    return dict(
+        reeval_speed=(dims, re["speed"], dict(units="m s-1", long_name=f"speed {what}")),
+        reeval_score=(dims, re["score"], dict(units="m s-1", long_name=f"score {what}")),
+        reeval_fallen=(dims, np.asarray(re["fallen"], float), dict(
+            units="1", long_name="1 if the re-evaluated best particle fell")))
+
+
 def flat(ctx) -> xr.Dataset:
     """Flat-ground PSO from a random swarm, per seed (§4.6.1: "We start by optimizing a
     gait on a flat terrain using PSO"): every particle, and the best one re-evaluated."""
@@ -341,28 +366,12 @@ def flat(ctx) -> xr.Dataset:
     re = reevaluate(model, state, cfg, best_pos, heads, unit=unit, timing=timing)
     dims = ("seed", "generation", "particle")
     ds = xr.Dataset(
-        dict(position=(dims + ("parameter",), pos, dict(
-                 units=_UNITS_MIXED, long_name="evaluated particle (spline parameters)")),
-             speed=(dims, fields["speed"], dict(
-                 units="m s-1", long_name="mean forward speed of the trunk over the window")),
-             score=(dims, fields["score"], dict(units="m s-1", long_name=_SCORE_LONG)),
-             fallen=(dims, fields["fallen"], dict(units="1", long_name="1 if the robot fell")),
-             upright=(dims, fields["upright"], dict(
-                 units="1", long_name="fraction of the window before the first fall")),
-             exploded=(dims, fields["exploded"], dict(
-                 units="1", long_name="1 if the simulation went unphysical (counted fallen)")),
+        dict(**_particle_vars(dims, pos, fields),
              best_generation=(("seed",), np.array([g for g, _ in best], float), dict(
                  units="1", long_name="generation of the best particle over all generations")),
              best_particle=(("seed",), np.array([k for _, k in best], float), dict(
                  units="1", long_name="index of the best particle in its generation")),
-             reeval_speed=(("seed", "repeat"), re["speed"], dict(
-                 units="m s-1", long_name="speed of the best particle re-evaluated from "
-                                          "standstill")),
-             reeval_score=(("seed", "repeat"), re["score"], dict(
-                 units="m s-1", long_name="score of the best particle re-evaluated from "
-                                          "standstill")),
-             reeval_fallen=(("seed", "repeat"), re["fallen"].astype(float), dict(
-                 units="1", long_name="1 if the re-evaluated best particle fell"))),
+             **_reeval_vars(("seed", "repeat"), re)),
         coords=dict(seed=seeds, generation=np.arange(G), particle=np.arange(P),
                     repeat=np.arange(int(cfg["reeval"]["repeats"])), **_param_coords()))
     _common_vars(ds)
@@ -454,19 +463,10 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
     dims = ("seed", "condition", "transfer", "generation", "particle")
     bdims = ("seed", "condition", "transfer", "rank")
     ds = xr.Dataset(
-        dict(position=(dims + ("parameter",), pos, dict(
-                 units=_UNITS_MIXED, long_name="evaluated particle (spline parameters)")),
+        dict(**_particle_vars(dims, pos, fields),
              velocity0=(("seed", "condition", "transfer", "particle", "parameter"), vel0, dict(
                  units=_UNITS_MIXED, long_name="initial PSO velocity (the transferred "
                                                "particles' random impulse, §4.4)")),
-             speed=(dims, fields["speed"], dict(
-                 units="m s-1", long_name="mean forward speed of the trunk over the window")),
-             score=(dims, fields["score"], dict(units="m s-1", long_name=_SCORE_LONG)),
-             fallen=(dims, fields["fallen"], dict(units="1", long_name="1 if the robot fell")),
-             upright=(dims, fields["upright"], dict(
-                 units="1", long_name="fraction of the window before the first fall")),
-             exploded=(dims, fields["exploded"], dict(
-                 units="1", long_name="1 if the simulation went unphysical (counted fallen)")),
              best_position=(bdims + ("parameter",), best_pos, dict(
                  units=_UNITS_MIXED, long_name="best particle (rank 1: over all generations; "
                                                "rank 2: after the first generation)")),
@@ -474,14 +474,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
                  units="1", long_name="generation of the best particle")),
              best_particle=(bdims, best_k, dict(
                  units="1", long_name="index of the best particle in its generation")),
-             reeval_speed=(bdims + ("repeat",), re["speed"], dict(
-                 units="m s-1", long_name="speed of the best particle re-evaluated from "
-                                          "standstill")),
-             reeval_score=(bdims + ("repeat",), re["score"], dict(
-                 units="m s-1", long_name="score of the best particle re-evaluated from "
-                                          "standstill")),
-             reeval_fallen=(bdims + ("repeat",), re["fallen"], dict(
-                 units="1", long_name="1 if the re-evaluated best particle fell"))),
+             **_reeval_vars(bdims + ("repeat",), re)),
         coords=dict(seed=seeds, condition=list(names), transfer=list(arms),
                     generation=np.arange(G), particle=np.arange(P), rank=[1, 2],
                     repeat=np.arange(reps), **_param_coords()))
