@@ -28,11 +28,11 @@ paper:
 # The whole test suite, including the smoke pipeline end to end, its regression against
 # tests/regression/smoke and the headless-browser check of its report.
 test: env chromium
-	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadgroup --durations=30
+	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadfile --no-loadscope-reorder --durations=30
 
 # Everything but the smoke pipeline (quick feedback while developing).
 test-fast: env
-	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadgroup --durations=30 -m "not pipeline and not browser and not cluster"
+	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadfile --no-loadscope-reorder --durations=30 -m "not pipeline and not browser and not cluster"
 
 # Rewrite the smoke references on purpose (prints what changed).
 update-reference: env

@@ -6,9 +6,10 @@
 * the ``x64`` fixture runs a test in float64 (gradient and finite-difference checks).
 Tests never assert wall-clock time; long ones carry the ``slow`` marker.
 
-``make test`` runs pytest on two workers (pytest-xdist, ``--dist loadgroup``): the tests
-that read the smoke pipeline share one worker, so its session fixture runs once, and
-come first, because the pipeline is the longest job of the suite.
+``make test`` runs pytest on two workers (pytest-xdist, ``--dist loadfile``): the tests
+that read the smoke pipeline live in one module (``tests/pipeline/test_smoke.py``), so they
+share one worker and its session fixture runs once; they come first, because the pipeline
+is the longest job of the suite.
 """
 
 from __future__ import annotations
@@ -32,11 +33,5 @@ def x64():
 
 
 def pytest_collection_modifyitems(config, items):
-    """The smoke pipeline's tests first and in one xdist group (see module docstring)."""
-    def uses_pipeline(item) -> bool:
-        return item.get_closest_marker("pipeline") is not None
-
-    for item in items:
-        if uses_pipeline(item):
-            item.add_marker(pytest.mark.xdist_group("smoke_pipeline"))
-    items.sort(key=lambda item: not uses_pipeline(item))  # stable: pipeline tests first
+    """The smoke pipeline's tests first (see module docstring); the sort is stable."""
+    items.sort(key=lambda item: item.get_closest_marker("pipeline") is None)
