@@ -235,10 +235,12 @@ def test_closed_loop_gradient_matches_float64_differences(x64):
     """The Tab. 7.1 gradient (§7.3.1) through servos, contacts and the sensor feedback
     of the controller (eq. 7.3) is the derivative of the rollout: a directional
     derivative of the torso displacement w.r.t. the 1,296 weights equals central
-    differences in float64 over 25 steps. (Its growth over 10 s, ~x1.3 per step in the
-    first 100 steps, is the true sensitivity of this random closed loop: differences
-    with eps 1e-9 grow the same way.) The accelerometer IMU, whose loop is the
-    stiffest, is the hard case."""
+    differences in float64 over 10 steps, at two step sizes. The accelerometer IMU, whose
+    loop is the stiffest, is the hard case. Longer windows test the differences, not the
+    gradient: this random closed loop is so sensitive (the directional derivative grows
+    by orders of magnitude within 25 steps) that central differences stop converging in
+    eps there (eps 1e-6, 1e-8 and 1e-9 give values of different sign), while over 10
+    steps eps 1e-8 and 1e-9 agree with each other and with the gradient."""
     model, s0 = be.quadruped(dtype=jnp.float64)
     ctrl = be.make_controller(model, 8, imu="accelerometer")
     n_s = int(be.sensor_vector(model, sensors(model, s0), "accelerometer").shape[0])
@@ -248,11 +250,11 @@ def test_closed_loop_gradient_matches_float64_differences(x64):
     st = jax.tree.map(lambda x: x[0], be.initial_states(s0, 1, k_s, 0.05))
     dirn = [jax.random.normal(k, x.shape, jnp.float64)
             for k, x in zip(jax.random.split(k_d, len(w)), w)]
-    dist = be.distance_fn(model, ctrl, 25, 8, grad_decay=1.0, remat=False)
+    dist = be.distance_fn(model, ctrl, 10, 8, grad_decay=1.0, remat=False)
     f = jax.jit(lambda a: dist([x + a * d for x, d in zip(w, dirn)], st))
     g = jax.grad(dist)(w, st)
     ad = float(sum(jnp.sum(gi * d) for gi, d in zip(g, dirn)))
-    eps = 1e-9
-    fd = (float(f(eps)) - float(f(-eps))) / (2 * eps)
     assert abs(ad) > 1e-3
-    np.testing.assert_allclose(ad, fd, rtol=1e-4)
+    for eps in (1e-8, 1e-9):
+        fd = (float(f(eps)) - float(f(-eps))) / (2 * eps)
+        np.testing.assert_allclose(ad, fd, rtol=1e-6, err_msg=f"eps {eps}")
