@@ -163,8 +163,9 @@ def test_killed_job_is_rerun_and_every_job_went_through_sbatch(full_run, killed_
     record = {j: r["state"] for j, r in _jobcomp(cluster).items()}
     assert record.get(killed_run["job"]) == "CANCELLED", record
     submitted = _submitted(workdir)
-    plan = subprocess.run([SNAKEMAKE, "--config", "profile=smoke", "--forceall", "-n",
-                           "--quiet", "rules", *CHAPTERS], cwd=workdir, env=cluster,
+    # targets before --quiet, whose choices would otherwise swallow them
+    plan = subprocess.run([SNAKEMAKE, *CHAPTERS, "--config", "profile=smoke", "--forceall",
+                           "-n", "--quiet", "rules"], cwd=workdir, env=cluster,
                           capture_output=True, text=True, check=True)
     rules = {m.group(1) for m in re.finditer(r"^(\w+)\s+\d+$", plan.stdout, re.M)}
     rules -= {"ch3", "ch7", "total"}  # target rules run no job
