@@ -78,7 +78,8 @@ def _snakemake(workdir, env, *args, timeout=2400, background=False):
     (this cluster has no accounting database, so ``sacct`` fails) every few seconds."""
     cmd = [SNAKEMAKE, "--profile", "profiles/slurm", "--config", "profile=smoke",
            "--slurm-status-command", "squeue",
-           "--slurm-init-seconds-before-status-checks", "5", "--retries", "0", *args]
+           "--slurm-init-seconds-before-status-checks", "5", "--retries", "0",
+           "--slurm-keep-successful-logs", *args]  # the per-job logs are the test's record
     if background:
         return subprocess.Popen(cmd, cwd=workdir, env=env, stdout=subprocess.PIPE,
                                 stderr=subprocess.STDOUT, text=True)
