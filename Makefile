@@ -10,6 +10,9 @@ UV := $(shell command -v uv 2>/dev/null || echo python3 -m uv)
 # it is not asked for, so a command that synced fewer extras would uninstall another's
 # (tests/core/test_makefile.py checks that every sync and run names the same ones).
 EXTRAS := --extra bench --extra slurm --extra refs
+# pytest on both cores; the smoke pipeline's tests share one module, hence one worker
+# (tests/conftest.py)
+XDIST := -n 2 --dist loadfile --no-loadscope-reorder --durations=30
 SNAKEMAKE := $(UV) run --locked $(EXTRAS) snakemake
 export JAX_COMPILATION_CACHE_DIR ?= $(CURDIR)/.cache/jax
 
@@ -28,11 +31,11 @@ paper:
 # The whole test suite, including the smoke pipeline end to end, its regression against
 # tests/regression/smoke and the headless-browser check of its report.
 test: env chromium
-	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadfile --no-loadscope-reorder --durations=30
+	$(UV) run --locked $(EXTRAS) pytest $(XDIST)
 
 # Everything but the smoke pipeline (quick feedback while developing).
 test-fast: env
-	$(UV) run --locked $(EXTRAS) pytest -n 2 --dist loadfile --no-loadscope-reorder --durations=30 -m "not pipeline and not browser and not cluster"
+	$(UV) run --locked $(EXTRAS) pytest $(XDIST) -m "not pipeline and not browser and not cluster"
 
 # Rewrite the smoke references on purpose (prints what changed).
 update-reference: env
