@@ -29,8 +29,27 @@ def test_peers_beside_the_engine_with_the_ratio():
     first = t.rows[0]  # 1 robot, 1,296 parameters, no gradient
     assert first[:4] == ["1", "1,296", "no", "1.06"]  # the thesis's CPU column
     assert first[4:] == ["2", "1", "0.50", "3"]
-    grad = t.rows[1]
-    assert grad[5] == "1 (gradient NaN)" and grad[7] == "—"
+    grad = t.rows[1]  # MJX's gradient is not finite: marked, and no ratio
+    assert grad[5] == "1 (diverged: gradient not finite)" and grad[6] == "— (MJX diverged)"
+    assert grad[7] == "—"
+
+
+def test_a_peer_whose_rollout_diverged_is_marked_and_has_no_ratio():
+    peers = _peers(1.0, 3.0)
+    peers["distance_finite"] = xr.ones_like(peers["seconds"])
+    peers["distance_finite"].loc[dict(engine="mjx", batch=1, n_params=1296, gradient=0)] = 0.0
+    peers["distance_finite"].loc[dict(engine="mujoco_c", batch=128, n_params=1296,
+                                      gradient=0)] = 0.0
+    t = ch7.table7_1_table({"ch7/table7_1": _ours(2.0), "ch7/table7_1_peers": peers})
+    rows = {(r[0], r[1], r[2]): r for r in t.rows}
+    bad = rows[("1", "1,296", "no")]
+    assert bad[5] == "1 (diverged: distance not finite)" and bad[6] == "— (MJX diverged)"
+    assert bad[7] == "3"  # MuJoCo C of that cell stayed finite
+    c_bad = rows[("128", "1,296", "no")]
+    assert c_bad[5] == "1" and c_bad[6] == "0.50"
+    assert c_bad[7] == "3 (diverged: distance not finite)"
+    sane = rows[("1", "1,147,904", "no")]
+    assert sane[5:] == ["1", "0.50", "3"]
 
 
 def test_without_peers_the_peer_cells_say_not_run():

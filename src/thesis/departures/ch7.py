@@ -289,11 +289,15 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="The thesis compares with no other engine.",
         ours="The same quadruped written as MJCF and timed in MuJoCo MJX and MuJoCo C with the "
              "solver and actuator settings of physics.bench.mjx_* and "
-             "physics.bench.mujoco_c_solver_iterations; a peer cell whose rollout is not "
-             "finite is left out of every comparison.",
+             "physics.bench.mujoco_c_solver_iterations: MJX's forward cells iterate its "
+             "solver to MuJoCo's tolerance, its gradient cells take the one iteration that "
+             "reverse mode can differentiate, with which this robot's rollout diverges. A "
+             "peer cell whose rollout or gradient is not finite is shown as diverged and "
+             "left out of every comparison.",
         why="A peer on the same machine puts the engine's timings in context; its settings "
             "are MuJoCo's own options.",
-        config=("physics.bench.mjx_solver_iterations", "physics.bench.mjx_ls_iterations",
+        config=("physics.bench.mjx_solver_iterations",
+                "physics.bench.mjx_forward_solver_iterations", "physics.bench.mjx_ls_iterations",
                 "physics.bench.mjx_servo_kv", "physics.bench.mujoco_c",
                 "physics.bench.mujoco_c_solver_iterations"),
     ),

@@ -169,6 +169,26 @@ def _cell(ds, engine=None, **coords):
     return float(da.median(extra)) if extra else float(da)
 
 
+def _diverged(peers, engine, at) -> str:
+    """Why a peer cell of Tab. 7.1 simulated no sane robot ("" when it did, or when the
+    dataset does not say): a non-finite final distance or, for gradient cells, a
+    non-finite gradient (``distance_finite`` / ``gradient_finite`` of
+    ``ch7/table7_1_peers``)."""
+    checks = [("distance_finite", "diverged: distance not finite")]
+    if at.get("gradient"):
+        checks.append(("gradient_finite", "diverged: gradient not finite"))
+    for var, why in checks:
+        if peers is None or var not in peers:
+            continue
+        try:
+            ok = peers[var].sel(engine=engine, **at)
+        except (KeyError, ValueError):
+            continue
+        if np.isfinite(ok).all() and float(ok.min()) < 1.0:
+            return why
+    return ""
+
+
 def table7_1_table(results) -> Table:
     """Tab. 7.1: the thesis's CPU column, this engine and the MuJoCo MJX / MuJoCo C peers on
     the same CPU (``ch7/table7_1_peers``, optional), with the MJX / engine ratio."""
@@ -185,21 +205,18 @@ def table7_1_table(results) -> Table:
         eng = _cell(ours, **at)
         mjx = _cell(peers, "mjx", **at)
         c = _cell(peers, "mujoco_c", **at)
-        finite = ""
-        if peers is not None and gradient and "gradient_finite" in peers:
-            try:
-                ok = float(peers["gradient_finite"].sel(engine="mjx", **at).max())
-                finite = "" if ok == 1.0 else " (gradient NaN)"
-            except (KeyError, ValueError):
-                finite = ""
+        mjx_bad, c_bad = _diverged(peers, "mjx", at), _diverged(peers, "mujoco_c", at)
         ratio = (f"{mjx / eng:.2f}" if np.isfinite(mjx) and np.isfinite(eng) and eng > 0
-                 else NOT_RUN)
+                 and not mjx_bad else "— (MJX diverged)" if mjx_bad else NOT_RUN)
         rows.append([str(batch), f"{n_params:,}", "yes" if gradient else "no",
-                     thesis, show(eng), show(mjx) + (finite if np.isfinite(mjx) else ""),
-                     ratio, show(c) if not gradient else "—"])
+                     thesis, show(eng), show(mjx) + (f" ({mjx_bad})" if mjx_bad else ""),
+                     ratio, "—" if gradient else
+                     show(c) + (f" ({c_bad})" if c_bad else "")])
     note = ("Seconds to simulate the batch for 10 model seconds on this machine's CPU; the "
             "thesis's column is its 6-core i7 5930K. MJX / engine below 1: MJX is faster. "
-            "Peers come from the optional `table7_1_peers` benchmark (`bench` extra).")
+            "Peers come from the optional `table7_1_peers` benchmark (`bench` extra). A peer "
+            "cell whose rollout or gradient is not finite timed a diverged simulation, not "
+            "the same work: it is marked diverged and has no ratio.")
     return Table(id="table7_1", title="Tab. 7.1: engine speed beside MuJoCo MJX and MuJoCo C",
                  thesis_ref="Tab. 7.1",
                  columns=["robots", "parameters", "gradient", "thesis CPU [s]", "engine [s]",
