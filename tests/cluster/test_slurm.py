@@ -12,6 +12,8 @@ chapters 3 and 7 with ``snakemake --profile profiles/slurm``, in a copy of the r
 * the results equal the local run's within the smoke regression tolerances
   (``tests/regression/smoke``).
 
+The scheduler's job list of the session is kept in ``logs/cluster/jobs.tsv``.
+
 Needs root (the script installs Debian's slurm-wlm and munge and starts the daemons).
 """
 
@@ -93,6 +95,29 @@ def _squeue(env) -> list[tuple[str, str]]:
     return [tuple(line.split("|")) for line in out.split()]
 
 
+#: Where the scheduler's record of the run is kept once the throwaway cluster is gone.
+JOB_LIST = ROOT / "logs" / "cluster" / "jobs.tsv"
+
+
+def _keep_job_list(env, submitted: dict[str, list[str]]) -> None:
+    """Write the scheduler's record of every job of the session to :data:`JOB_LIST`: the
+    rule (from the executor plugin's per-job logs), then ``jobcomp/filetxt``'s job id,
+    state, start, end, time limit [min], CPUs and memory; the evidence of what ran
+    through ``sbatch`` after the sandbox is deleted."""
+    rule_of = {job: rule for rule, jobs in submitted.items() for job in jobs}
+    cols = ("JobId", "JobState", "StartTime", "EndTime", "TimeLimit", "ProcCnt")
+    rows = ["\t".join(("rule", *cols, "mem"))]
+    path = Path(env["THESIS_SLURM_DIR"]) / "jobcomp.log"
+    for line in path.read_text().splitlines():
+        f = dict(re.findall(r"(\w+)=(\S*)", line))
+        if "JobId" in f:
+            tres = dict(kv.split("=", 1) for kv in f.get("Tres", "").split(",") if "=" in kv)
+            rows.append("\t".join([rule_of.get(f["JobId"], "?"), *(f.get(c, "") for c in cols),
+                                   tres.get("mem", "")]))
+    JOB_LIST.parent.mkdir(parents=True, exist_ok=True)
+    JOB_LIST.write_text("\n".join(rows) + "\n")
+
+
 def _jobcomp(env) -> dict[str, dict[str, str]]:
     """Job id -> {"state", "time_limit" [min], "mem" (e.g. "1600M"), "cpus"}, from the
     scheduler's completion record (one line per finished job)."""
@@ -162,8 +187,9 @@ def test_killed_job_is_rerun_and_every_job_went_through_sbatch(full_run, killed_
                                                                cluster, workdir):
     assert (Path(workdir) / KILLED[1]).exists()
     record = {j: r["state"] for j, r in _jobcomp(cluster).items()}
-    assert record.get(killed_run["job"]) == "CANCELLED", record
     submitted = _submitted(workdir)
+    _keep_job_list(cluster, submitted)
+    assert record.get(killed_run["job"]) == "CANCELLED", record
     # targets before --quiet, whose choices would otherwise swallow them
     plan = subprocess.run([SNAKEMAKE, *CHAPTERS, "--config", "profile=smoke", "--forceall",
                            "-n", "--quiet", "rules"], cwd=workdir, env=cluster,
