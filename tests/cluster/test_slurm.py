@@ -100,27 +100,22 @@ JOB_LIST = ROOT / "logs" / "cluster" / "jobs.tsv"
 
 
 def _keep_job_list(env, submitted: dict[str, list[str]]) -> None:
-    """Write the scheduler's record of every job of the session to :data:`JOB_LIST`: the
-    rule (from the executor plugin's per-job logs), then ``jobcomp/filetxt``'s job id,
-    state, start, end, time limit [min], CPUs and memory; the evidence of what ran
-    through ``sbatch`` after the sandbox is deleted."""
+    """Write the scheduler's record of every job of the session (:func:`_jobcomp`) to
+    :data:`JOB_LIST`, each job with its rule (from the executor plugin's per-job logs):
+    the evidence of what ran through ``sbatch`` after the sandbox is deleted."""
     rule_of = {job: rule for rule, jobs in submitted.items() for job in jobs}
-    cols = ("JobId", "JobState", "StartTime", "EndTime", "TimeLimit", "ProcCnt")
-    rows = ["\t".join(("rule", *cols, "mem"))]
-    path = Path(env["THESIS_SLURM_DIR"]) / "jobcomp.log"
-    for line in path.read_text().splitlines():
-        f = dict(re.findall(r"(\w+)=(\S*)", line))
-        if "JobId" in f:
-            tres = dict(kv.split("=", 1) for kv in f.get("Tres", "").split(",") if "=" in kv)
-            rows.append("\t".join([rule_of.get(f["JobId"], "?"), *(f.get(c, "") for c in cols),
-                                   tres.get("mem", "")]))
+    cols = ("state", "start", "end", "time_limit", "cpus", "mem")
+    rows = ["\t".join(("rule", "job", *cols))]
+    for job, rec in _jobcomp(env).items():
+        rows.append("\t".join([rule_of.get(job, "?"), job, *(rec[c] or "" for c in cols)]))
     JOB_LIST.parent.mkdir(parents=True, exist_ok=True)
     JOB_LIST.write_text("\n".join(rows) + "\n")
 
 
 def _jobcomp(env) -> dict[str, dict[str, str]]:
-    """Job id -> {"state", "time_limit" [min], "mem" (e.g. "1600M"), "cpus"}, from the
-    scheduler's completion record (one line per finished job)."""
+    """Job id -> {"state", "start", "end", "time_limit" [min], "cpus", "mem" (e.g.
+    "1600M")}, from the scheduler's completion record (one line per finished job, in
+    the order they finished)."""
     path = Path(env["THESIS_SLURM_DIR"]) / "jobcomp.log"
     out = {}
     for line in path.read_text().splitlines():
@@ -128,8 +123,10 @@ def _jobcomp(env) -> dict[str, dict[str, str]]:
         if "JobId" in fields:
             tres = dict(kv.split("=", 1) for kv in fields.get("Tres", "").split(",") if "=" in kv)
             out[fields["JobId"]] = {"state": fields.get("JobState"),
+                                    "start": fields.get("StartTime"),
+                                    "end": fields.get("EndTime"),
                                     "time_limit": fields.get("TimeLimit"),
-                                    "mem": tres.get("mem"), "cpus": fields.get("ProcCnt")}
+                                    "cpus": fields.get("ProcCnt"), "mem": tres.get("mem")}
     return out
 
 

@@ -206,8 +206,8 @@ def table7_1_table(results) -> Table:
         mjx = _cell(peers, "mjx", **at)
         c = _cell(peers, "mujoco_c", **at)
         mjx_bad, c_bad = _diverged(peers, "mjx", at), _diverged(peers, "mujoco_c", at)
-        ratio = (f"{mjx / eng:.2f}" if np.isfinite(mjx) and np.isfinite(eng) and eng > 0
-                 and not mjx_bad else "— (MJX diverged)" if mjx_bad else NOT_RUN)
+        ratio = ("— (MJX diverged)" if mjx_bad else f"{mjx / eng:.2f}"
+                 if np.isfinite(mjx) and np.isfinite(eng) and eng > 0 else NOT_RUN)
         rows.append([str(batch), f"{n_params:,}", "yes" if gradient else "no",
                      thesis, show(eng), show(mjx) + (f" ({mjx_bad})" if mjx_bad else ""),
                      ratio, "—" if gradient else
