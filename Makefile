@@ -49,8 +49,12 @@ lint: env
 uv:
 	@command -v uv >/dev/null 2>&1 || python3 -m uv --version >/dev/null 2>&1 || python3 -m pip install --quiet uv
 
+# Bytecode is compiled at install, the packages' and ours: where the environment forbids
+# writing .pyc at import (PYTHONDONTWRITEBYTECODE), every pipeline job and test subprocess
+# would otherwise compile jax, pandas and xarray from source again (seconds of CPU each).
 env: uv
-	$(UV) sync --locked $(EXTRAS)
+	$(UV) sync --locked $(EXTRAS) --compile-bytecode
+	$(UV) run --locked $(EXTRAS) python -m compileall -q src
 
 # The pipeline through a throwaway single-node SLURM cluster (tests/cluster; needs root:
 # installs Debian's slurm-wlm and munge, starts and stops its own daemons).

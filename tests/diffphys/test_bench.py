@@ -1,8 +1,10 @@
-"""Tab. 7.1 benchmark: controller sizes, the MJCF peer model, the servo law, dataset layout."""
+"""Tab. 7.1 benchmark: controller sizes, the MJCF peer model, the servo law, the batch split.
+
+The dataset's layout is checked on the smoke pipeline's result
+(tests/pipeline/layouts_ch7.py), not on a run of its own."""
 
 from __future__ import annotations
 
-import logging
 import os
 import xml.etree.ElementTree as ET
 
@@ -14,7 +16,6 @@ import pytest
 from thesis.diffphys import bench_engine as be
 from thesis.diffphys.quadruped_mjcf import model_to_mjcf, quadruped_mjcf, servo_ctrl
 from thesis.physics import Builder, sensors
-from thesis.runctx import RunContext
 
 
 @pytest.fixture(scope="module")
@@ -166,34 +167,6 @@ def test_servo_ctrl_is_the_engine_servo_law():
     np.testing.assert_allclose(out, [3.0, 3.0, 0.0, 0.3], rtol=1e-6)
     assert servo_ctrl(np.array([0.0]), np.array([0.05]), 10.0, 3.0, -1, 1, 0.0,
                       np.array([0]))[0] == pytest.approx(0.5)
-
-
-@pytest.mark.slow
-def test_dataset_layout_on_a_tiny_run():
-    cfg = {"root_seed": 3, "jax": {}, "physics": {"bench": dict(
-        batches=[1, 2], hidden_layers=[[4]], memory_units=8, simulated_seconds=0.02,
-        repeats=1, grad_decay=0.9, warm_start_grad=1.0, remat=False, output_gain=0.1,
-        initial_velocity_std=0.05, imu="accelerometer",
-        gpu=False)}}
-    ctx = RunContext(key="ch7/table7_1", profile="smoke", config={}, full_config=cfg,
-                     log=logging.getLogger("test"))
-    ds = be.table7_1(ctx)
-    assert dict(ds.sizes) == {"device": 1, "batch": 2, "n_params": 1, "gradient": 2}
-    assert list(ds["n_params"].values) == [81 * 4 + 4 * 16]
-    assert list(ds["gradient"].values) == [0, 1]
-    for v in ("seconds", "compile_seconds", "ms_per_robot_step", "peak_memory_bytes",
-              "gradient_finite", "gradient_norm"):
-        assert ds[v].dims == ("device", "batch", "n_params", "gradient")
-        assert ds[v].attrs["units"] and ds[v].attrs["long_name"]
-    assert np.all(ds["seconds"].values > 0)
-    assert np.all(np.isnan(ds["gradient_norm"].sel(gradient=0).values))
-    assert set(np.unique(ds["gradient_finite"].sel(gradient=1).values)) <= {0.0, 1.0}
-    # ms per robot-step = seconds per simulated horizon / (batch * steps)
-    s = ds["seconds"].values * ds.attrs["simulated_seconds"] / 10.0
-    per = 1e3 * s / (np.array([1, 2])[None, :, None, None] * 2)
-    np.testing.assert_allclose(ds["ms_per_robot_step"].values, per, rtol=1e-6)
-    assert ds.attrs["grad_decay"] == 0.9 and ds.attrs["n_steps"] == 2
-    assert ds.attrs["imu"] == "accelerometer" and ds.attrs["output_gain"] == 0.1
 
 
 _SPLIT = """

@@ -31,7 +31,7 @@ def _smoke_ball():
     cfg = load_config("smoke")
     ctx = RunContext(key="ch7/ball", profile="smoke", config=cfg["ch7"], full_config=cfg,
                      log=logging.getLogger("test"))
-    with jax.numpy_dtype_promotion("standard"):  # as in tests/diffphys/test_experiments.py
+    with jax.numpy_dtype_promotion("standard"):  # optax mixes int and float internally
         return ball(ctx)
 
 

@@ -28,33 +28,6 @@ def test_vmap_equals_loop_of_single_robots():
     assert float(jnp.abs(batched[0] - batched[1]).max()) > 1e-3  # different robots moved
 
 
-def test_batched_solver_matches_the_unbatched_through_contacts():
-    """Model.batched (the solver's robots-last vmap rule) = the unbatched solver, value and
-    gradient (vmap of grad), on the quadruped walking into ground contact (many rows per
-    body, torso included)."""
-    from thesis.physics.models import quadruped
-
-    m, s = quadruped()
-
-    def ctrl(p, sens, mem, t):
-        return p * jnp.sin(6.0 * t + jnp.arange(8.0)), mem
-
-    def travel(model, p):
-        fin, _ = rollout(model, s, ctrl, p, 40, record=())
-        return jnp.sum(fin.pos[:, 0]) + jnp.sum(fin.vel)
-
-    gains = jnp.asarray([0.0, 0.3, -0.5])
-    for model in (m, m.replace(batched=True)):
-        f = jax.jit(jax.vmap(jax.value_and_grad(lambda p, mm=model: travel(mm, p))))
-        if model.batched:
-            val_b, grad_b = f(gains)
-        else:
-            val_s, grad_s = f(gains)
-    assert float(jnp.abs(val_s[1] - val_s[0])) > 1e-3  # the gains change the motion
-    np.testing.assert_allclose(val_b, val_s, rtol=1e-4, atol=1e-5)
-    np.testing.assert_allclose(grad_b, grad_s, rtol=1e-3, atol=1e-4)
-
-
 def test_batched_rollout_vmapped_chunks_equal_vmap():
     m, s = arm4()
     states = jax.tree.map(lambda x: jnp.stack([x, x]), s)
@@ -91,10 +64,9 @@ def test_warm_start_grad_cuts_only_the_initial_guess_path():
         return jnp.sum(fin.pos) + jnp.sum(fin.vel)
 
     imp0 = (s.joint_impulse + 0.1, s.row_impulse + 0.1)
-    f = jax.jit(final, static_argnums=2)
-    g = jax.jit(jax.grad(final, argnums=(0, 1)), static_argnums=2)
-    np.testing.assert_array_equal(f(imp0, 0.3, 0.0), f(imp0, 0.3, 1.0))  # forward unchanged
-    (gi1, gp1), (gi0, gp0) = g(imp0, 0.3, 1.0), g(imp0, 0.3, 0.0)
+    g = jax.jit(jax.value_and_grad(final, argnums=(0, 1)), static_argnums=2)
+    (f1, (gi1, gp1)), (f0, (gi0, gp0)) = g(imp0, 0.3, 1.0), g(imp0, 0.3, 0.0)
+    np.testing.assert_array_equal(f0, f1)  # forward unchanged
     # the last step's impulses reach the future only as the solver's initial guess
     assert max(float(jnp.abs(x).max()) for x in jax.tree.leaves(gi1)) > 1e-6
     assert all(float(jnp.abs(x).max()) == 0.0 for x in jax.tree.leaves(gi0))
@@ -149,10 +121,12 @@ def test_batched_rollout_splits_over_two_host_devices():
     assert out.returncode == 0 and "OK" in out.stdout, out.stderr[-2000:]
 
 
-def test_batched_solver_gradient_wrt_shared_model_parameters():
-    """The batched solver's vmap rule under jax.grad of a vmapped rollout: the gradient
-    w.r.t. parameters shared by every robot (masses, relaxation) is summed over the batch
-    and equals the single-robot solver's, in both orders of grad and vmap."""
+def test_batched_solver_matches_the_unbatched_in_value_and_gradient():
+    """Model.batched (the solver's robots-last vmap rule) = the unbatched solver on the
+    quadruped walking into ground contact (many rows per body, torso included): the value
+    and its gradient w.r.t. each robot's own controller gain (vmap of grad), and the
+    gradient w.r.t. parameters shared by every robot (masses, relaxation), which is summed
+    over the batch, in both orders of grad and vmap."""
     from thesis.physics.models import quadruped
 
     m, s = quadruped()
@@ -170,13 +144,18 @@ def test_batched_solver_gradient_wrt_shared_model_parameters():
     for model in (m, m.replace(batched=True)):
         outer = jax.grad(lambda a, r, mm=model: jnp.sum(
             jax.vmap(lambda p: travel(mm, a, r, p))(gains)), (0, 1))
-        inner = jax.vmap(jax.grad(lambda a, r, p, mm=model: travel(mm, a, r, p), (0, 1)),
-                         (None, None, 0))
+        inner = jax.vmap(jax.value_and_grad(
+            lambda a, r, p, mm=model: travel(mm, a, r, p), (0, 1, 2)), (None, None, 0))
         g_out = jax.jit(outer)(m.body_mass, m.relaxation)
-        g_in = jax.jit(inner)(m.body_mass, m.relaxation, gains)
-        out[model.batched] = (g_out, (g_in[0].sum(0), g_in[1].sum(0)))
-    assert float(jnp.abs(out[False][0][0]).max()) > 1e-2  # the masses matter
+        val, (g_mass, g_relax, g_gain) = jax.jit(inner)(m.body_mass, m.relaxation, gains)
+        out[model.batched] = dict(shared=(g_out, (g_mass.sum(0), g_relax.sum(0))),
+                                  value=val, gain=g_gain)
+    single, batched = out[False], out[True]
+    assert float(jnp.abs(single["value"][1] - single["value"][0])) > 1e-3  # gains matter
+    assert float(jnp.abs(single["shared"][0][0]).max()) > 1e-2  # the masses matter
+    np.testing.assert_allclose(batched["value"], single["value"], rtol=1e-4, atol=1e-5)
+    np.testing.assert_allclose(batched["gain"], single["gain"], rtol=1e-3, atol=1e-4)
     for order in (0, 1):
         for k in (0, 1):
-            np.testing.assert_allclose(out[True][order][k], out[False][order][k], rtol=1e-3,
-                                       atol=1e-4)
+            np.testing.assert_allclose(batched["shared"][order][k], single["shared"][order][k],
+                                       rtol=1e-3, atol=1e-4)

@@ -13,11 +13,13 @@ import re
 import shutil
 import subprocess
 
+import jax
 import pytest
 
 from thesis import regression, store
 from thesis.config import load_config
 
+from . import layouts_ch3, layouts_ch7
 from .conftest import ROOT, snakemake
 
 pytestmark = pytest.mark.pipeline
@@ -64,6 +66,19 @@ def test_smoke_ch2_models_learn(smoke_run):
     ds = store.load_results("smoke", ROOT / "results")["ch2/table2_2"]
     err = ds["test_error"]
     assert bool((err < 0.8).all()), err.to_series().to_dict()
+
+
+LAYOUTS = {**layouts_ch3.CHECKS, **layouts_ch7.CHECKS}
+
+
+@pytest.mark.parametrize("key", sorted(LAYOUTS))
+def test_smoke_result_layout(smoke_run, key):
+    """The layout of a smoke result (dims, units, relations between variables) that the
+    claims and the report read, derived from the smoke configuration: checked on what the
+    pipeline wrote instead of on a second, in-process run of each experiment."""
+    ds = store.read_dataset(store.result_path("smoke", key, ROOT / "results"))
+    with jax.numpy_dtype_promotion("standard"):
+        LAYOUTS[key](ds, load_config("smoke"))
 
 
 def test_rerun_is_a_no_op(smoke_run):
