@@ -25,7 +25,6 @@ def tiny(tmp_path_factory):
     c["train"].update(batch_size=6, max_epochs=2, patience=2, loc_lr_scale=1.0)
     c["rnn_spn"]["loc_lr_scale"] = 0.5  # RNN-SPN's own localisation rate
     c["ffn_spn"]["max_epochs"] = 3  # FFN-SPN's own epoch limit
-    c["bench"] = {"sizes": [16, 24, 32], "batch": 1, "repeats": 2}
     tmp = tmp_path_factory.mktemp("ch2")
 
     def ctx(key, **kw):
@@ -163,12 +162,8 @@ def test_model_sections_override_train():
     assert cfg["train"]["max_epochs"] != 9  # the shared section is not modified
 
 
-def test_scaling_benchmark(tiny):
-    ctx, _, _ = tiny
-    ds = registry.resolve("ch2/chirpz_scaling")(ctx("ch2/chirpz_scaling"))
-    assert ds["seconds"].dims == ("layer", "pass", "size")
-    assert list(ds["size"].values) == [16, 24, 32]
-    assert np.all(ds["seconds"].values > 0)
-    assert np.all(np.isfinite(ds["exponent_n2logn"].values))
-    assert ds.attrs["thesis_ref"] == "§2.4"
+def test_scaling_benchmark_is_registered():
+    """``thesis bench chirpz`` runs the ch2 scaling experiment (its dataset's layout is
+    checked on the smoke pipeline's result, tests/pipeline/layouts_ch2.py)."""
     assert registry.BENCHMARKS["chirpz"] == "ch2/chirpz_scaling"
+    assert registry.resolve("ch2/chirpz_scaling") is not None

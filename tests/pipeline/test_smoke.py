@@ -19,7 +19,7 @@ import pytest
 from thesis import regression, store
 from thesis.config import load_config
 
-from . import layouts_ch3, layouts_ch7
+from . import layouts_ch2, layouts_ch3, layouts_ch7
 from .conftest import ROOT, snakemake
 
 pytestmark = pytest.mark.pipeline
@@ -68,7 +68,7 @@ def test_smoke_ch2_models_learn(smoke_run):
     assert bool((err < 0.8).all()), err.to_series().to_dict()
 
 
-LAYOUTS = {**layouts_ch3.CHECKS, **layouts_ch7.CHECKS}
+LAYOUTS = {**layouts_ch2.CHECKS, **layouts_ch3.CHECKS, **layouts_ch7.CHECKS}
 
 
 @pytest.mark.parametrize("key", sorted(LAYOUTS))
