@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from thesis.diffphys import bench_engine as be
+from thesis.diffphys import trot
 
 
 def has(ds, dims_of):
@@ -122,9 +123,7 @@ def quadruped_gait(ds, cfg):
              "trot_hip_amplitude": ("trot",), "trot_knee_offset": ("trot",),
              "hand_tuned_speed_by_torque": ("trot_torque",)})
     grid = c["trot"]
-    n = np.prod([len(grid[k]) for k in ("frequency_hz", "hip_amplitude", "knee_amplitude",
-                                         "knee_phase", "knee_offset")])
-    assert ds.sizes["trot"] == n and ds["hand_tuned_speed"].attrs["units"] == "m/s"
+    assert ds.sizes["trot"] == len(trot.grid(grid)) and ds["hand_tuned_speed"].attrs["units"] == "m/s"
     # the gait's own torque and the sweep's, ascending
     gait_torque = float(c["servo_torque"])
     torques = sorted({gait_torque, *map(float, grid["servo_torques"])})
