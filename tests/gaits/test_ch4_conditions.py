@@ -44,13 +44,47 @@ def test_soft_front_legs_halve_only_the_front_knee_springs(cfg):
         C.condition_model(cfg, "grade30")
 
 
-def test_every_condition_has_the_safety_thread_and_untethered_never_pulls(cfg):
+def test_every_condition_has_the_safety_bridle_and_untethered_never_pulls(cfg):
     m, _ = C.condition_model(cfg, "grade18")
-    assert m.tether_names == ("thread",)
-    assert float(m.tether_slack[0]) == pytest.approx(cfg["tether"]["slack"], rel=1e-6)
+    assert m.tether_names == ("thread_left", "thread_right")
+    np.testing.assert_allclose(np.asarray(m.tether_slack), cfg["tether"]["slack"], rtol=1e-6)
     bare = C.untethered(m)
-    assert float(bare.tether_slack[0]) >= 100.0
+    assert np.asarray(bare.tether_slack).min() >= 100.0
     np.testing.assert_array_equal(np.asarray(bare.tether_k), np.asarray(m.tether_k))
+
+
+def _rolled(model, state, angle):
+    """Trunk rotation of ``state`` rolled by ``angle`` [rad] about the trunk's long axis."""
+    c, s = math.cos(angle), math.sin(angle)
+    roll = np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]])
+    tr = R.O.trunk_index(model)
+    rot = np.asarray(state.rot).copy()
+    rot[tr] = rot[tr] @ roll
+    return rot
+
+
+def test_the_bridle_is_slack_standing_and_taut_when_the_trunk_rolls(cfg):
+    """The default bridle (two threads from the head's top corners) is loose on the
+    standing robot and stretches beyond its slack when the trunk rolls by 25 degrees
+    either way, where one thread on the centre line is not stretched at all: that is
+    why the bridle limits roll and the single thread does not."""
+    from thesis.physics.step import tether_geometry
+    m, st = C.base_model(cfg)
+    slack = float(cfg["tether"]["slack"])
+    _, d0, _ = tether_geometry(m, st.pos, st.rot)
+    assert np.all(np.asarray(d0) < slack - 0.01)
+    for angle in (0.44, -0.44):
+        _, d, _ = tether_geometry(m, st.pos, _rolled(m, st, angle))
+        assert np.asarray(d).max() > slack
+    single, st1 = R.O.oncilla(tether_rail_height=cfg["tether"]["rail_height"], tether_slack=slack,
+                              tether_stiffness=1.0, tether_damping=0.0, tether_width=0.0)
+    assert single.tether_names == ("thread",)
+    _, d1, _ = tether_geometry(single, st1.pos, _rolled(single, st1, 0.44))
+    _, d1_0, _ = tether_geometry(single, st1.pos, st1.rot)
+    assert float(d1[0]) < float(d1_0[0]) + 0.01
+    with pytest.raises(ValueError, match="tether_width"):
+        R.O.oncilla(tether_rail_height=1.0, tether_slack=slack, tether_stiffness=1.0,
+                    tether_width=0.3)
 
 
 def _sim(z, up, x, dt=0.01):
@@ -136,7 +170,7 @@ def test_pebble_layout_covers_the_strip_with_1cm_pebbles_on_the_floor(cfg):
 def test_pebbly_model_has_the_field_and_the_thread(cfg):
     m, _ = C.condition_model(cfg, "pebbly", 0)
     assert m.field_name == "pebbles" and m.field_k == cfg["pebbles"]["k"]
-    assert m.tether_names == ("thread",)
+    assert m.tether_names == ("thread_left", "thread_right")
     with pytest.raises(ValueError, match="root seed"):
         C.condition_model(cfg, "pebbly")
 

@@ -9,7 +9,7 @@ so the batched simulation of :mod:`thesis.gaits.runner` is compiled once for all
   For the single infinite floor plane this is the physics of an inclined treadmill seen
   in the belt's frame; the fall test (trunk height above the plane, tilt of the trunk
   against the plane's normal) keeps its meaning.
-* **Safety thread** (§4.5): every condition runs with the thread from the robot's head
+* **Safety thread** (§4.5): every condition runs with the bridle of threads from the head
   to an overhead rail (``tether`` config; :func:`untethered` removes it).
 * **Pebbles** (§4.6.3, "a flat surface covered in pebbles ... with a diameter of
   approximately 1 cm"): the engine's static sphere field (``oncilla(field=...)``) of
@@ -79,9 +79,11 @@ def soft_front_legs(model, factor: float):
 
 
 @functools.lru_cache(maxsize=4)
-def _oncilla(dt: float, iterations: int, rail: float, slack: float, k: float, c: float):
+def _oncilla(dt: float, iterations: int, rail: float, slack: float, k: float, c: float,
+             width: float):
     return O.oncilla(dt=dt, solver_iterations=iterations, tether_rail_height=rail,
-                     tether_slack=slack, tether_stiffness=k, tether_damping=c)
+                     tether_slack=slack, tether_stiffness=k, tether_damping=c,
+                     tether_width=width)
 
 
 def base_model(cfg):
@@ -89,7 +91,8 @@ def base_model(cfg):
     safety thread of §4.5 (``tether``)."""
     m, t = cfg["model"], cfg["tether"]
     return _oncilla(float(m["dt"]), int(m["solver_iterations"]), float(t["rail_height"]),
-                    float(t["slack"]), float(t["stiffness"]), float(t["damping"]))
+                    float(t["slack"]), float(t["stiffness"]), float(t["damping"]),
+                    float(t["width"]))
 
 
 #: Slack [m] of a thread that never tightens (the robot cannot get this far from the rail).
@@ -148,7 +151,7 @@ def _pebbly(key: str, root_seed: int):
     return O.oncilla(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
                      tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
                      tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
-                     field=dict(name="pebbles", centres=centres, radii=r,
+                     tether_width=float(t["width"]), field=dict(name="pebbles", centres=centres, radii=r,
                                 k=int(cfg["pebbles"]["k"])))
 
 

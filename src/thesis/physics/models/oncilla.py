@@ -135,7 +135,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             drum_size=0.2, field=None,
             camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32,
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
-            tether_damping=0.0):
+            tether_damping=0.0, tether_width=0.0):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -155,6 +155,13 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             is within ``tether_slack`` [m] of the rail. Its leaves (``tether_k`` ...) may
             be changed without recompiling; a slack longer than the robot can stray
             removes it (zero stiffness is not allowed by the engine's spring row).
+        tether_width: 0 (default): one thread from the middle of the head's top edge
+            (``"thread"``); > 0: a bridle of two such threads (``"thread_left"``,
+            ``"thread_right"``) from the head's top edge at y = +-``tether_width`` / 2 [m]
+            to the same rail. One thread on the trunk's centre line is a point restraint
+            that a roll about the trunk's long axis hardly stretches; the bridle's
+            off-centre anchors move away from the rail as the trunk rolls, so it also
+            limits roll once taut.
         field: optional static sphere field on the floor (pebbles, §4.6): a dict of
             :meth:`thesis.physics.Builder.add_sphere_field` arguments (``centres``,
             ``radii``, optional ``k``, ``capacity``, ``bounds``, ``cell_size``,
@@ -223,8 +230,14 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b.add_camera("onboard", "trunk", (lx, 0.0, 0.0), cam_rot, 1e-3, (fw, 0.75 * fw),
                  camera_pixels)
     if tether_rail_height is not None:
-        b.add_tether("thread", "trunk", (lx, 0.0, z_trunk + lz), (0.0, 0.0, tether_rail_height),
-                     (1.0, 0.0, 0.0), tether_stiffness, tether_damping, tether_slack)
+        if not 0.0 <= tether_width <= TRUNK[1]:
+            raise ValueError(f"tether_width must be in [0, {TRUNK[1]}] m (the trunk's width), "
+                             f"got {tether_width}")
+        half = 0.5 * float(tether_width)
+        anchors = {"thread": 0.0} if half == 0.0 else {"thread_left": half, "thread_right": -half}
+        for name, y in anchors.items():
+            b.add_tether(name, "trunk", (lx, y, z_trunk + lz), (0.0, 0.0, tether_rail_height),
+                         (1.0, 0.0, 0.0), tether_stiffness, tether_damping, tether_slack)
     if field is not None:
         kw = dict(field)
         spheres = kw.pop("spheres", "toes")
