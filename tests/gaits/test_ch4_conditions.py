@@ -188,3 +188,26 @@ def test_start_range_leaves_room_for_the_walk_and_names_a_short_strip(cfg):
     assert x0.min() >= lo and x0.max() <= hi and not np.array_equal(x0, x1)
     np.testing.assert_array_equal(s(0, 50), x0)
     assert TR.start_sampler(cfg, 0, "grade9", 4.0) is None
+
+
+def test_thread_load_counts_taut_poses_and_their_tension(cfg):
+    """Robot 0 stands loose under the bridle; robot 1's trunk sits 5 cm lower (3 cm past
+    the bridle's 2-cm play) for the second half of the window: taut half the time, with
+    a tension of k (d - slack) per thread."""
+    K = 100
+    z = np.full((2, K), 0.172)
+    z[1, K // 2:] = 0.172 - 0.05
+    model, sim = _sim(z, np.ones((2, K)), np.zeros((2, K)))
+    out = C.thread_load(model, sim, 0.0, sim["t"][-1])
+    assert out["taut"][0] == 0.0 and out["thread_force"][0] == 0.0
+    assert out["taut"][1] == pytest.approx(0.5)
+    a = np.asarray(model.tether_anchor, float)  # body frame, identity rotation here
+    head = z[1, -1] + a[:, 2]
+    d = np.hypot(a[:, 1], float(cfg["tether"]["rail_height"]) - head)
+    k = np.asarray(model.tether_k, float)
+    steady = np.sum(k * (d - float(cfg["tether"]["slack"])))
+    # the step's own sample carries a damping term (finite-difference rate); the other
+    # taut samples are steady
+    assert out["thread_force"][1] == pytest.approx(0.5 * steady, rel=0.05)
+    bare = C.thread_load(C.untethered(model), sim, 0.0, sim["t"][-1])
+    np.testing.assert_array_equal(bare["taut"], 0.0)

@@ -105,6 +105,12 @@ def test_tether_comparison(tiny):
     assert ds["fall_fraction"].dims == ("seed", "tether", "generation")
     np.testing.assert_array_equal(ds["fallen"].sel(tether=1).values, flat["fallen"].values)
     assert set(np.unique(ds["fallen"].values)) <= {0.0, 1.0}
+    # the thread's load: the flat run's with it, exactly none without it
+    np.testing.assert_array_equal(ds["taut"].sel(tether=1).values, flat["taut"].values)
+    np.testing.assert_array_equal(ds["thread_force"].sel(tether=0).values, 0.0)
+    assert ds["thread_force"].attrs["units"] == "N"
+    assert np.all((flat["taut"].values >= 0) & (flat["taut"].values <= 1))
+    assert np.all(flat["reeval_thread_force"].values >= 0)
 
 
 def test_derived_artifacts_layouts(tiny):

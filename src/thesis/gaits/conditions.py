@@ -106,6 +106,51 @@ def untethered(model):
     return model.replace(tether_slack=jnp.full_like(model.tether_slack, NEVER_TAUT))
 
 
+def thread_load(model, sim, t_start, t_end) -> dict:
+    """How much the safety threads carried each robot over its window (§4.5: the thread
+    "is loose during normal operation"), from the poses of a
+    :func:`thesis.gaits.runner.simulate` result.
+
+    Each thread's distance d from its rail (as ``thesis.physics.step.tether_geometry``)
+    is taken at every 10-ms pose; its tension is estimated as ``k (d - slack) + c d'``
+    (``d'`` by finite differences of the poses), clipped at 0 and counted only while
+    ``d > slack``: the quasi-static spring-damper force, not the solver's impulse.
+
+    Args:
+        model: the tethered Oncilla (any number of threads; none gives zeros).
+        sim: a ``simulate`` result (``pos`` (B, K, n_body, 3), ``rot``, ``t`` (K,)).
+        t_start, t_end: scalars or (B,) window bounds [s].
+
+    Returns:
+        dict of (B,) arrays: ``taut`` [1] (fraction of the window's poses with any thread
+        taut) and ``thread_force`` [N] (window mean of the threads' summed tension).
+    """
+    pos, rot, t = sim["pos"], sim["rot"], sim["t"]
+    B = pos.shape[0]
+    if not model.tether_names:
+        return dict(taut=np.zeros(B), thread_force=np.zeros(B))
+    body = np.asarray(model.tether_body)
+    anchor = np.asarray(model.tether_anchor, np.float64)
+    rail_p = np.asarray(model.tether_rail_point, np.float64)
+    rail_u = np.asarray(model.tether_rail_dir, np.float64)
+    p = pos[:, :, body] + np.einsum("bktij,tj->bkti", rot[:, :, body], anchor) - rail_p
+    perp = p - np.sum(p * rail_u, -1, keepdims=True) * rail_u
+    d = np.linalg.norm(perp, axis=-1)  # (B, K, n_tether)
+    slack = np.asarray(model.tether_slack, np.float64)
+    rate = np.gradient(d, t, axis=1)
+    taut = d > slack
+    force = np.where(taut, np.maximum(np.asarray(model.tether_k, np.float64) * (d - slack)
+                                      + np.asarray(model.tether_c, np.float64) * rate, 0.0),
+                     0.0).sum(-1)
+    t0 = np.broadcast_to(np.asarray(t_start, np.float64), (B,))
+    t1 = np.broadcast_to(np.asarray(t_end, np.float64), (B,))
+    w = (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)
+    n = np.maximum(w.sum(1), 1)
+    with np.errstate(invalid="ignore"):
+        return dict(taut=(taut.any(-1) & w).sum(1) / n,
+                    thread_force=np.where(w, force, 0.0).sum(1) / n)
+
+
 #: Fastest walk [m/s] a pebble strip must leave room for (twice the thesis's fastest gait).
 MAX_WALK_SPEED = 1.5
 

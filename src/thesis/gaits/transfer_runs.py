@@ -141,7 +141,8 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
             the evaluation starts).
 
     Returns:
-        dict of (n,) arrays: :func:`thesis.gaits.runner.speed_terms` and ``score``.
+        dict of (n,) arrays: :func:`thesis.gaits.runner.speed_terms`,
+        :func:`thesis.gaits.conditions.thread_load` and ``score``.
     """
     p_from = np.asarray(p_from, np.float64)
     p_to = np.asarray(p_to, np.float64)
@@ -161,6 +162,7 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
         sim = R.simulate(model, state, fn, mem, dur, heading=h, chunk=None, forward=fw)
         timing.add(len(idx) * dur, sim["wall"], time.process_time() - c0)
         terms = R.speed_terms(model, sim, t0, float(cfg["protocol"]["fall_height"]), t1)
+        terms.update(C.thread_load(model, sim, t0, t1))
         parts.append({k: v[:len(idx)] for k, v in terms.items()})
     out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     out["score"] = score_of(out)
@@ -177,7 +179,7 @@ class GenerationRecorder:
     evaluations their start positions along x (a pebble strip, :func:`start_sampler`).
     """
 
-    FIELDS = ("speed", "score", "fallen", "upright", "exploded")
+    FIELDS = ("speed", "score", "fallen", "upright", "exploded", "taut", "thread_force")
 
     def __init__(self, model, state, cfg, keys: Sequence[Hashable], *, unit: int,
                  timing: Timing, label, starts=None):
@@ -261,6 +263,10 @@ def reeval_headings(cfg, root_seed: int, name: str, seed: int, m: int) -> np.nda
                                                              (m, int(rc["repeats"])))
 
 
+#: What :func:`reevaluate` keeps of each re-evaluation.
+REEVAL_FIELDS = ("speed", "score", "fallen", "taut", "thread_force")
+
+
 def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Timing,
                forward=None) -> dict:
     """Re-evaluate particles from standstill, ``reeval.repeats`` times each.
@@ -274,7 +280,8 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
         forward: optional (m, repeats) start positions along x [m] (a pebble strip).
 
     Returns:
-        dict of (m, repeats) ``speed``, ``score``, ``fallen``.
+        dict of (m, repeats) ``speed``, ``score``, ``fallen``, ``taut``,
+        ``thread_force``.
     """
     headings = np.asarray(headings, np.float64)
     reps = headings.shape[1]
@@ -282,8 +289,7 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
     fw = None if forward is None else np.asarray(forward, np.float64).reshape(-1)
     terms = evaluate_particles(model, state, cfg, p, p, unit=unit, timing=timing,
                                heading=headings.reshape(-1), forward=fw)
-    return {k: np.asarray(terms[k], np.float64).reshape(-1, reps)
-            for k in ("speed", "score", "fallen")}
+    return {k: np.asarray(terms[k], np.float64).reshape(-1, reps) for k in REEVAL_FIELDS}
 
 
 def _param_coords() -> dict:
@@ -329,7 +335,18 @@ def _particle_vars(dims, pos, fields) -> dict:
         upright=(dims, fields["upright"], dict(
             units="1", long_name="fraction of the window before the first fall")),
         exploded=(dims, fields["exploded"], dict(
-            units="1", long_name="1 if the simulation went unphysical (counted fallen)")))
+            units="1", long_name="1 if the simulation went unphysical (counted fallen)")),
+        **_thread_vars(dims, fields))
+
+
+def _thread_vars(dims, fields) -> dict:
+    """The safety threads' load over the window (:func:`thesis.gaits.conditions.thread_load`)."""
+    return dict(
+        taut=(dims, fields["taut"], dict(
+            units="1", long_name="fraction of the window with a safety thread taut")),
+        thread_force=(dims, fields["thread_force"], dict(
+            units="N", long_name="window mean of the safety threads' tension (estimated "
+                                 "from the 10-ms poses)")))
 
 
 def _reeval_vars(dims, re) -> dict:
@@ -339,7 +356,8 @@ def _reeval_vars(dims, re) -> dict:
         reeval_speed=(dims, re["speed"], dict(units="m s-1", long_name=f"speed {what}")),
         reeval_score=(dims, re["score"], dict(units="m s-1", long_name=f"score {what}")),
         reeval_fallen=(dims, np.asarray(re["fallen"], float), dict(
-            units="1", long_name="1 if the re-evaluated best particle fell")))
+            units="1", long_name="1 if the re-evaluated best particle fell")),
+        **{f"reeval_{k}": v for k, v in _thread_vars(dims, re).items()})
 
 
 def flat(ctx) -> xr.Dataset:
@@ -418,7 +436,7 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
     best_gen = np.zeros(shape + (2,))
     best_k = np.zeros(shape + (2,))
     reps = int(cfg["reeval"]["repeats"])
-    re = {k: np.zeros(shape + (2, reps)) for k in ("speed", "score", "fallen")}
+    re = {k: np.zeros(shape + (2, reps)) for k in REEVAL_FIELDS}
     for ci, name in enumerate(names):
         model, state = C.condition_model(cfg, name, ctx.root_seed)
         starts = start_sampler(cfg, ctx.root_seed, name, protocol_times(cfg)[2])
@@ -526,7 +544,8 @@ def treadmill_predecessors(positions: np.ndarray) -> np.ndarray:
 def tether(ctx) -> xr.Dataset:
     """The safety thread's effect (§4.5): every evaluation of the flat run (which ran with
     the thread) simulated again without it, entered from the same previous particle; the
-    fraction of fallen evaluations per generation with and without the thread."""
+    fraction of fallen evaluations per generation with and without the thread, and how
+    much the thread carried each evaluation (0 without it)."""
     cfg = ctx.config
     flat_ds = load_input(ctx, "flat")
     seeds = [int(s) for s in flat_ds["seed"].values]
@@ -550,6 +569,9 @@ def tether(ctx) -> xr.Dataset:
                        flat_ds["fallen"].values], axis=1)  # tether 0, 1
     speed = np.stack([terms["speed"].reshape(shape), flat_ds["speed"].values], axis=1)
     score = np.stack([terms["score"].reshape(shape), flat_ds["score"].values], axis=1)
+    taut = np.stack([terms["taut"].reshape(shape), flat_ds["taut"].values], axis=1)
+    force = np.stack([terms["thread_force"].reshape(shape), flat_ds["thread_force"].values],
+                     axis=1)
     dims = ("seed", "tether", "generation", "particle")
     ds = xr.Dataset(
         dict(fallen=(dims, fallen, dict(units="1", long_name="1 if the robot fell")),
@@ -557,7 +579,8 @@ def tether(ctx) -> xr.Dataset:
                                                              "window")),
              score=(dims, score, dict(units="m s-1", long_name=_SCORE_LONG)),
              fall_fraction=(dims[:3], fallen.mean(axis=-1), dict(
-                 units="1", long_name="fraction of fallen evaluations per generation"))),
+                 units="1", long_name="fraction of fallen evaluations per generation")),
+             **_thread_vars(dims, dict(taut=taut, thread_force=force))),
         coords=dict(seed=seeds, tether=[0, 1], generation=np.arange(G), particle=np.arange(P)))
     ds["tether"].attrs.update(units="1", long_name="1: with the safety thread (the flat run); "
                                                    "0: the same evaluations without it")
