@@ -50,7 +50,7 @@ def _runs(ctx) -> xr.Dataset:
         raise KeyError(f"experiment {ctx.key} needs at least one transfer_* input")
     parts = [_load(ctx, n) for n in names]
     keep = ["position", "score", "speed", "fallen", "best_position", "best_generation",
-            "best_particle", "reeval_speed", "reeval_score", "reeval_fallen"]
+            "best_particle", "reeval_speed", "reeval_score", "reeval_fallen", "reeval_taut"]
     return xr.concat([p[keep] for p in parts], dim="condition")
 
 
@@ -81,13 +81,14 @@ def distance(x, y) -> np.ndarray:
 
 
 def _flat_best(flat: xr.Dataset):
-    """(S, 12) best flat particle, (S,) its speed, score, generation, (S, R) re-evaluations."""
+    """(S, 12) best flat particle, (S,) its speed, score, generation, (S, R) re-evaluations
+    (speed, fallen, bridle taut fraction)."""
     g = flat["best_generation"].values.astype(int)
     k = flat["best_particle"].values.astype(int)
     i = np.arange(len(g))
     return (flat["position"].values[i, g, k], flat["speed"].values[i, g, k],
             flat["score"].values[i, g, k], g.astype(float), flat["reeval_speed"].values,
-            flat["reeval_fallen"].values)
+            flat["reeval_fallen"].values, flat["reeval_taut"].values)
 
 
 def _in_run(runs: xr.Dataset, cond: str, seed, t: int, rank: int):
@@ -114,10 +115,11 @@ def best_table(flat: xr.Dataset, runs: xr.Dataset, dim: str, levels, conds, rank
     R = flat.sizes["repeat"]
     value = np.full((S, Lv, T, K, P), np.nan)
     speed, score, gen, dist = (np.full((S, Lv, T, K), np.nan) for _ in range(4))
-    rspeed, rfall = np.full((S, Lv, T, K, R), np.nan), np.full((S, Lv, T, K, R), np.nan)
-    fpos, fspeed, fscore, fgen, frs, frf = _flat_best(flat)
+    rspeed, rfall, rtaut = (np.full((S, Lv, T, K, R), np.nan) for _ in range(3))
+    fpos, fspeed, fscore, fgen, frs, frf, frt = _flat_best(flat)
     value[:, 0, 0, 0], speed[:, 0, 0, 0], score[:, 0, 0, 0] = fpos, fspeed, fscore
     gen[:, 0, 0, 0], rspeed[:, 0, 0, 0], rfall[:, 0, 0, 0] = fgen, frs, frf
+    rtaut[:, 0, 0, 0] = frt
     dist[:, 0, 0, 0] = 0.0
     for li, cond in enumerate(conds, start=1):
         for i, s in enumerate(seeds):
@@ -130,6 +132,7 @@ def best_table(flat: xr.Dataset, runs: xr.Dataset, dim: str, levels, conds, rank
                     sel = dict(seed=s, condition=cond, transfer=t, rank=r)
                     rspeed[i, li, t, ki] = runs["reeval_speed"].sel(sel).values
                     rfall[i, li, t, ki] = runs["reeval_fallen"].sel(sel).values
+                    rtaut[i, li, t, ki] = runs["reeval_taut"].sel(sel).values
     dims = ("seed", dim, "transfer", "rank")
     ds = xr.Dataset(
         dict(value=(dims + ("parameter",), value, dict(
@@ -148,6 +151,9 @@ def best_table(flat: xr.Dataset, runs: xr.Dataset, dim: str, levels, conds, rank
                  units="m s-1", long_name="speed re-evaluated from standstill")),
              reeval_fallen=(dims + ("repeat",), rfall, dict(
                  units="1", long_name="1 if the re-evaluation fell")),
+             reeval_taut=(dims + ("repeat",), rtaut, dict(
+                 units="1", long_name="fraction of the re-evaluation's window with a safety "
+                                      "thread taut")),
              parameter_unit=("parameter", list(FAMILY.units), dict(
                  units="1", long_name="unit of the parameter"))),
         coords={"seed": seeds, dim: list(levels), "transfer": [0, 1], "rank": list(ranks),

@@ -46,14 +46,16 @@ def _best_table(results, key, tid, title, ref, dim, rows) -> Table:
             row.append(_cell(_paper(key, p, **psel), ds, "value", parameter=p, **sel))
         row.append(_cell(_paper(key, "speed", **psel), ds, "speed", **sel))
         row.append(_cell("—", ds, "reeval_speed", **sel))
+        row.append(_cell("—", ds, "reeval_taut", 2, **sel))
         row.append(_cell(_paper(key, "euclidean_distance", **psel), ds, "euclidean_distance",
                          **sel))
         row.append(NOT_RUN if ds is None else mean_spread(ds["best_generation"].sel(sel).values, 2))
         out.append(row)
     note = ("Each cell: thesis (one run) / reproduced (mean ± sd over seeds). Speed: in-run "
             "speed of the best particle (the thesis's); re-evaluated: the same particle from "
-            "standstill, every repeat and seed pooled. Distances are in range-normalised "
-            "units (at most 3.46), the thesis's normalisation is unknown: compare orderings "
+            "standstill, every repeat and seed pooled; bridle taut: the fraction of those "
+            "windows with a safety thread taut (0 = walked free, as on the thesis's loose "
+            "thread). Distances are in range-normalised units (at most 3.46), the thesis's normalisation is unknown: compare orderings "
             "only. Absolute speeds belong to the simulated Oncilla, not the robot.")
     if ds is not None:
         note += " Sizes: " + ", ".join(f"{k}={ds.attrs[k]}" for k in
@@ -61,7 +63,7 @@ def _best_table(results, key, tid, title, ref, dim, rows) -> Table:
                                         "transition_seconds") if k in ds.attrs)
     return Table(id=tid, title=title, thesis_ref=ref,
                  columns=["row", "transfer", *PRINT_ORDER, "speed [m/s]",
-                          "re-evaluated speed [m/s]", "Euclidean distance",
+                          "re-evaluated speed [m/s]", "bridle taut (re-evaluated)", "Euclidean distance",
                           "generation of the best"], rows=out, note=note)
 
 
@@ -141,29 +143,44 @@ def falls_table(results) -> Table:
         ff = flat["fallen"].mean("particle")
         rows.append(["flat (source run)", "no", mean_spread(ff.isel(generation=0).values, 2),
                      mean_spread(ff.isel(generation=-1).values, 2),
-                     mean_spread(ff.mean("generation").values, 2)])
+                     mean_spread(ff.mean("generation").values, 2), _taut(flat)])
     for label, ds, _ in _runs(results):
         for t in (0, 1):
             ff = ds["fall_fraction"].sel(transfer=t)
             rows.append([label, "yes" if t else "no",
                          mean_spread(ff.isel(generation=0).values, 2),
                          mean_spread(ff.isel(generation=-1).values, 2),
-                         mean_spread(ff.mean("generation").values, 2)])
+                         mean_spread(ff.mean("generation").values, 2), "—"])
     tether = results.get("ch4/tether")
     if tether is not None:
         for t, label in ((1, "flat, with the thread"), (0, "flat, same evaluations without")):
             ff = tether["fall_fraction"].sel(tether=t)
             rows.append([label, "no", mean_spread(ff.isel(generation=0).values, 2),
                          mean_spread(ff.isel(generation=-1).values, 2),
-                         mean_spread(ff.mean("generation").values, 2)])
+                         mean_spread(ff.mean("generation").values, 2),
+                         _taut(tether.sel(tether=t))])
     if not rows:
-        rows = [[NOT_RUN] * 5]
+        rows = [[NOT_RUN] * 6]
     return Table(id="falls", title="Fraction of fallen evaluations", thesis_ref="§4.5",
                  columns=["run", "transfer", "first generation", "last generation",
-                          "all generations"], rows=rows,
+                          "all generations", "bridle taut: standing / fallen evaluations"],
+                 rows=rows,
                  note="On the treadmill an assistant intervened on unstable gaits; here a fall "
                       "scores -2 + the fraction of the window the robot stayed up, below every "
-                      "gait that walks (departure ch4.fall_handling).")
+                      "gait that walks (departure ch4.fall_handling). Bridle taut: the mean "
+                      "fraction of the window with a safety thread taut, over the evaluations "
+                      "that stayed up and over those that fell (departure ch4.tether; the "
+                      "thesis's thread was loose during normal operation).")
+
+
+def _taut(ds) -> str:
+    """Mean taut fraction of the bridle over standing / fallen evaluations of ``ds``."""
+    if "taut" not in ds:
+        return "—"
+    taut, fell = ds["taut"].values, ds["fallen"].values.astype(bool)
+    up = fmt(float(taut[~fell].mean()), 2) if (~fell).any() else "—"
+    down = fmt(float(taut[fell].mean()), 2) if fell.any() else "—"
+    return f"{up} / {down}"
 
 
 def choices_table(results) -> Table:
