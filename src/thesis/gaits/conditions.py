@@ -29,11 +29,14 @@ import functools
 import importlib
 import json
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
 from thesis import seeding
+from thesis.gaits import runner as R
 from thesis.physics import terrain
+from thesis.physics.step import tether_geometry
 
 # the module (the package re-exports the constructor under the same name)
 O = importlib.import_module("thesis.physics.models.oncilla")
@@ -78,21 +81,24 @@ def soft_front_legs(model, factor: float):
     return model.replace(jspring_k=jnp.asarray(model.jspring_k).at[idx].multiply(factor))
 
 
+def _model_kwargs(cfg) -> dict:
+    """``oncilla()`` arguments of the ``model`` and ``tether`` config sections."""
+    m, t = cfg["model"], cfg["tether"]
+    return dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
+                tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
+                tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
+                tether_width=float(t["width"]))
+
+
 @functools.lru_cache(maxsize=4)
-def _oncilla(dt: float, iterations: int, rail: float, slack: float, k: float, c: float,
-             width: float):
-    return O.oncilla(dt=dt, solver_iterations=iterations, tether_rail_height=rail,
-                     tether_slack=slack, tether_stiffness=k, tether_damping=c,
-                     tether_width=width)
+def _oncilla(kwargs: tuple):
+    return O.oncilla(**dict(kwargs))
 
 
 def base_model(cfg):
     """(Model, State) of the flat-ground Oncilla of the ``ch4`` config section, with the
     safety thread of §4.5 (``tether``)."""
-    m, t = cfg["model"], cfg["tether"]
-    return _oncilla(float(m["dt"]), int(m["solver_iterations"]), float(t["rail_height"]),
-                    float(t["slack"]), float(t["stiffness"]), float(t["damping"]),
-                    float(t["width"]))
+    return _oncilla(tuple(sorted(_model_kwargs(cfg).items())))
 
 
 #: Slack [m] of a thread that never tightens (the robot cannot get this far from the rail).
@@ -111,10 +117,11 @@ def thread_load(model, sim, t_start, t_end) -> dict:
     "is loose during normal operation"), from the poses of a
     :func:`thesis.gaits.runner.simulate` result.
 
-    Each thread's distance d from its rail (as ``thesis.physics.step.tether_geometry``)
-    is taken at every 10-ms pose; its tension is estimated as ``k (d - slack) + c d'``
-    (``d'`` by finite differences of the poses), clipped at 0 and counted only while
-    ``d > slack``: the quasi-static spring-damper force, not the solver's impulse.
+    Each thread's distance d from its rail (the engine's
+    :func:`thesis.physics.step.tether_geometry`) is taken at every 10-ms pose; its
+    tension is estimated as ``k (d - slack) + c d'`` (``d'`` by finite differences of
+    the poses), clipped at 0 and counted only while ``d > slack``: the quasi-static
+    spring-damper force, not the solver's impulse.
 
     Args:
         model: the tethered Oncilla (any number of threads; none gives zeros).
@@ -129,22 +136,15 @@ def thread_load(model, sim, t_start, t_end) -> dict:
     B = pos.shape[0]
     if not model.tether_names:
         return dict(taut=np.zeros(B), thread_force=np.zeros(B))
-    body = np.asarray(model.tether_body)
-    anchor = np.asarray(model.tether_anchor, np.float64)
-    rail_p = np.asarray(model.tether_rail_point, np.float64)
-    rail_u = np.asarray(model.tether_rail_dir, np.float64)
-    p = pos[:, :, body] + np.einsum("bktij,tj->bkti", rot[:, :, body], anchor) - rail_p
-    perp = p - np.sum(p * rail_u, -1, keepdims=True) * rail_u
-    d = np.linalg.norm(perp, axis=-1)  # (B, K, n_tether)
+    distance = jax.vmap(jax.vmap(lambda p, r: tether_geometry(model, p, r)[1]))
+    d = np.asarray(distance(pos, rot), np.float64)  # (B, K, n_tether)
     slack = np.asarray(model.tether_slack, np.float64)
     rate = np.gradient(d, t, axis=1)
     taut = d > slack
     force = np.where(taut, np.maximum(np.asarray(model.tether_k, np.float64) * (d - slack)
                                       + np.asarray(model.tether_c, np.float64) * rate, 0.0),
                      0.0).sum(-1)
-    t0 = np.broadcast_to(np.asarray(t_start, np.float64), (B,))
-    t1 = np.broadcast_to(np.asarray(t_end, np.float64), (B,))
-    w = (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)
+    w = R.window(t, t_start, t_end, B)
     n = np.maximum(w.sum(1), 1)
     with np.errstate(invalid="ignore"):
         return dict(taut=(taut.any(-1) & w).sum(1) / n,
@@ -192,12 +192,8 @@ def start_range(cfg, name: str, duration: float):
 def _pebbly(key: str, root_seed: int):
     cfg = json.loads(key)
     centres, r = pebble_layout(cfg, root_seed)
-    m, t = cfg["model"], cfg["tether"]
-    return O.oncilla(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
-                     tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
-                     tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
-                     tether_width=float(t["width"]), field=dict(name="pebbles", centres=centres, radii=r,
-                                k=int(cfg["pebbles"]["k"])))
+    return O.oncilla(**_model_kwargs(cfg), field=dict(name="pebbles", centres=centres,
+                                                      radii=r, k=int(cfg["pebbles"]["k"])))
 
 
 def condition_model(cfg, name: str, root_seed: int | None = None):

@@ -257,6 +257,14 @@ def fitness_terms(model, sim, t_start, led_distance: float, led_height: float,
     return dict(out, fallen=fallen, exploded=bad)
 
 
+def window(t, t_start, t_end, batch: int) -> np.ndarray:
+    """(batch, K) mask of the samples ``t`` (K,) [s] inside each robot's window
+    (``t_start``, ``t_end``], the bounds scalars or (batch,)."""
+    t0 = np.broadcast_to(np.asarray(t_start, np.float64), (batch,))
+    t1 = np.broadcast_to(np.asarray(t_end, np.float64), (batch,))
+    return (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)
+
+
 def speed_terms(model, sim, t_start, fall_height: float, t_end=None):
     """Speed-only fitness terms of §4.6 over each robot's window of a :func:`simulate` result.
 
@@ -281,8 +289,7 @@ def speed_terms(model, sim, t_start, fall_height: float, t_end=None):
     pos, rot, t = sim["pos"], sim["rot"], sim["t"]
     B = pos.shape[0]
     t0 = np.broadcast_to(np.asarray(t_start, np.float64), (B,))
-    t1 = np.broadcast_to(np.asarray(t[-1] if t_end is None else t_end, np.float64), (B,))
-    w = (t[None] > t0[:, None] + 1e-9) & (t[None] <= t1[:, None] + 1e-9)  # (B, K)
+    w = window(t, t_start, t[-1] if t_end is None else t_end, B)
     first = np.argmax(w, axis=1)
     last = w.shape[1] - 1 - np.argmax(w[:, ::-1], axis=1)
     start = np.maximum(first - 1, 0)  # the pose at the window's start (a sample at t_start)
