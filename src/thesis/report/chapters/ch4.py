@@ -55,16 +55,17 @@ def _best_table(results, key, tid, title, ref, dim, rows) -> Table:
             "speed of the best particle (the thesis's); re-evaluated: the same particle from "
             "standstill, every repeat and seed pooled; bridle taut: the fraction of those "
             "windows with a safety thread taut (0 = walked free, as on the thesis's loose "
-            "thread). Distances are in range-normalised units (at most 3.46), the thesis's normalisation is unknown: compare orderings "
-            "only. Absolute speeds belong to the simulated Oncilla, not the robot.")
+            "thread). Distances are in range-normalised units (at most 3.46), the thesis's "
+            "normalisation is unknown: compare orderings only. Absolute speeds belong to the "
+            "simulated Oncilla, not the robot.")
     if ds is not None:
         note += " Sizes: " + ", ".join(f"{k}={ds.attrs[k]}" for k in
                                        ("particles", "generations", "run_seconds",
                                         "transition_seconds") if k in ds.attrs)
     return Table(id=tid, title=title, thesis_ref=ref,
                  columns=["row", "transfer", *PRINT_ORDER, "speed [m/s]",
-                          "re-evaluated speed [m/s]", "bridle taut (re-evaluated)", "Euclidean distance",
-                          "generation of the best"], rows=out, note=note)
+                          "re-evaluated speed [m/s]", "bridle taut (re-evaluated)",
+                          "Euclidean distance", "generation of the best"], rows=out, note=note)
 
 
 def table4_2(results) -> Table:
