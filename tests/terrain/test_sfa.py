@@ -59,3 +59,10 @@ def test_fewer_inputs_than_requested_slow_features_keeps_them_all():
     x, _ = _mixture(2)
     f = S.fit_sfa(x[None, :, :3], np.array([len(x)]), 4)
     assert f.w.shape == (3, 3)
+
+
+def test_quadratic_expansion_follows_triu_order_for_many_inputs():
+    x = np.random.default_rng(0).normal(size=(3, 5, 7))
+    i, j = np.triu_indices(7, k=1)
+    np.testing.assert_array_equal(S.quadratic_expansion(x),
+                                  np.concatenate([x, x[..., i] * x[..., j]], axis=-1))

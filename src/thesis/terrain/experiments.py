@@ -105,9 +105,9 @@ def _tune(ctx: RunContext, study: _Study, group: str, method: str, draw: M.Draw,
 
     def objective(params: dict) -> float:
         accs = []
-        for train, val in folds:
-            _, (pred,) = M.evaluate(method, params, draw, train, [val], len(REC.TERRAINS), **kw)
-            accs.append(P.accuracy(pred, val.labels()))
+        for train, val in folds:  # the training predictions are not needed here
+            fitted = M.fit(method, params, draw, train, len(REC.TERRAINS), **kw)
+            accs.append(P.accuracy(M.predict(fitted, val), val.labels()))
         return float(np.mean(accs))
 
     ranges = {k: tuple(v) for k, v in cfg["search"].items() if k != "sigma0"}

@@ -16,7 +16,11 @@ PCA comes first in every pipeline "with the dimension reduction rate as a parame
 components, fitted on the training set (``sklearn.decomposition.PCA``). The
 unsupervised pipelines fit SFA (``n_slow`` slowest features) and FastICA
 (``sklearn.decomposition.FastICA``, ``whiten="unit-variance"``, as many components)
-without labels; only the naive-Bayes readout sees them (§5.3.2). SFA2 gets the same
+without labels; only the naive-Bayes readout sees them (§5.3.2). FastICA's contrast is
+its default log cosh, whose derivative tanh is evaluated in single precision
+(:func:`logcosh_contrast`): the fixed-point iteration spends most of its time in that
+tanh, single precision is ~4x faster, and its 1e-7 relative error is far below the
+iteration's tolerance (1e-4). SFA2 gets the same
 EMA low-pass as LR in front of its expansion (a choice: the thesis is silent on it and
 filters every other method's noisy inputs).
 
@@ -41,7 +45,7 @@ from thesis.terrain import readout, reservoir, sfa
 from thesis.terrain.protocol import Parts, flat
 
 __all__ = ["METHODS", "PARAMS", "SUPERVISED", "Draw", "draw", "fit", "predict",
-           "evaluate"]
+           "evaluate", "logcosh_contrast"]
 
 #: Hyper-parameters of each method, in CMA-ES order.
 PARAMS: dict[str, tuple[str, ...]] = {
@@ -87,6 +91,17 @@ class Fitted:
     sfa: Any = None
     ica: Any = None
     bayes: Any = None
+
+
+def logcosh_contrast(x: np.ndarray, alpha: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """FastICA's log-cosh contrast for ``sklearn.decomposition.FastICA(fun=...)``.
+
+    G(u) = log cosh(alpha u) / alpha (Hyvarinen's FastICA, sklearn's ``"logcosh"``): returns
+    g(u) = tanh(alpha u), (k, n) in float64 from a float32 tanh, and the mean over the
+    samples of g'(u) = alpha (1 - g(u)^2), (k,). Args: x (k, n) projections W X.
+    """
+    g = np.tanh(np.asarray(x, np.float32) * np.float32(alpha)).astype(np.float64)
+    return g, float(alpha) * (1.0 - g * g).mean(axis=-1)
 
 
 def _pca_project(pca, x: np.ndarray) -> np.ndarray:
@@ -153,7 +168,7 @@ def fit(method: str, params: dict, weights: Draw | None, train: Parts, n_classes
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # FastICA convergence warnings: max_iter is ours
         f.ica = FastICA(n_components=slow.shape[1], whiten="unit-variance", random_state=ica_seed,
-                        max_iter=ica_max_iter).fit(slow)
+                        max_iter=ica_max_iter, fun=logcosh_contrast).fit(slow)
     f.bayes = readout.fit_bayes(f.ica.transform(slow), labels, n_classes, n_bins)
     return f
 

@@ -68,13 +68,16 @@ def fit_sfa(x: np.ndarray, lengths: np.ndarray, n_components: int,
     mask = np.arange(x.shape[1])[None, :] < lengths[:, None]
     flat = x[mask]
     mean = flat.mean(axis=0)
-    cov = np.cov(flat - mean, rowvar=False, bias=True).reshape(flat.shape[1], flat.shape[1])
+    centred = flat - mean
+    cov = centred.T @ centred / len(centred)  # X^T X: numpy calls BLAS syrk
     ev, vec = np.linalg.eigh(cov)
     keep = ev > rel_eps * max(float(ev.max()), 1e-300)
     white = vec[:, keep] / np.sqrt(ev[keep])
     n_components = min(int(n_components), white.shape[1])  # fewer inputs: all of them
-    dz = part_differences(x, lengths) @ white
-    dcov = dz.T @ dz / max(len(dz), 1)
+    d = part_differences(x, lengths)
+    # covariance of the whitened derivative, W^T (D^T D / n) W: for many inputs (SFA2)
+    # one syrk over the samples instead of whitening every difference first
+    dcov = white.T @ (d.T @ d / max(len(d), 1)) @ white
     dev, dvec = np.linalg.eigh(dcov)
     w = white @ dvec[:, :n_components]
     return SFA(mean=mean, w=w, delta=dev[:n_components])
@@ -83,5 +86,11 @@ def fit_sfa(x: np.ndarray, lengths: np.ndarray, n_components: int,
 def quadratic_expansion(x: np.ndarray) -> np.ndarray:
     """(..., K + K (K - 1) / 2): the K inputs, then x_i x_j for i < j (§5.2.4)."""
     x = np.asarray(x, np.float64)
-    i, j = np.triu_indices(x.shape[-1], k=1)
-    return np.concatenate([x, x[..., i] * x[..., j]], axis=-1)
+    k = x.shape[-1]
+    out = np.empty(x.shape[:-1] + (k + k * (k - 1) // 2,))
+    out[..., :k] = x
+    a = k
+    for i in range(k - 1):  # products x_i x_j, j > i, in np.triu_indices order
+        np.multiply(x[..., i:i + 1], x[..., i + 1:], out=out[..., a:a + k - 1 - i])
+        a += k - 1 - i
+    return out
