@@ -1,6 +1,8 @@
-"""Puppy II on the engine: the bound gait moves it forward on every terrain (§5.3.1)."""
+"""Puppy II on the engine: the bound gait moves it forward on every terrain; the paws' skin
+grips less forward than backward (§5.3.1)."""
 
 import numpy as np
+import pytest
 
 from thesis.config import load_config
 from thesis.terrain import gaits as G
@@ -11,8 +13,9 @@ def test_bound_moves_forward_upright_on_every_terrain():
     cfg = load_config("smoke")["ch5"]
     pup = R._puppy()
     mcfg = cfg["model"]
-    model, state0 = pup.puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"])
-    key = (mcfg["dt"], mcfg["solver_iterations"])
+    model, state0 = pup.puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"],
+                              skin_ratio=mcfg["skin_ratio"])
+    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"])
     R._MODELS[key] = model
     rate = float(cfg["recordings"]["sample_rate"])
     steps = int(round(1.0 / rate / float(mcfg["dt"])))
@@ -33,3 +36,23 @@ def test_bound_moves_forward_upright_on_every_terrain():
     speed = forward / (n / rate)
     assert np.all(rot[:, :, 2, 2] > 0.5), "turned over"
     assert np.all(speed > 0.01), dict(zip(R.TERRAINS, speed))  # [m/s] forward on average
+
+
+def test_paw_skin_grips_less_forward_than_backward():
+    """The paws are directional contact spheres whose grain is the robot's forward axis;
+    the floor material bounds forward sliding by skin_ratio * mu, backward by mu."""
+    pup = R._puppy()
+    model, state0 = pup.puppy(friction=0.6, skin_ratio=0.5)
+    assert model.directional
+    assert float(model.material_friction[0]) == pytest.approx(0.6)
+    assert float(model.material_friction_forward[0]) == pytest.approx(0.3)
+    assert float(model.material_friction_backward[0]) == pytest.approx(0.6)
+    # the grain of every paw, seen from the world at the build pose, points along +x
+    paws = pup.paw_spheres(model)
+    body = np.asarray(model.csphere_body)[paws]
+    grain = np.asarray(model.csphere_direction)[paws]
+    rot = np.asarray(state0.rot)[body]
+    world = np.einsum("bij,bj->bi", rot, grain)
+    np.testing.assert_allclose(world, np.tile([1.0, 0.0, 0.0], (4, 1)), atol=1e-6)
+    with pytest.raises(ValueError, match="skin_ratio"):
+        pup.puppy(skin_ratio=0.0)

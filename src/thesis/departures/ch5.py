@@ -38,15 +38,16 @@ DEPARTURES: tuple[Departure, ...] = (
         config=("ch5.model",),
     ),
     Departure(
-        id="ch5.isotropic_paw_friction", kind="deviation", results=_ALL,
+        id="ch5.paw_skin", kind="choice", results=_ALL,
         thesis="§5.3.1: 'Underneath the feet there is an adhesive skin attached with "
-               "asymmetrical friction'.",
-        ours="The paws have isotropic Coulomb friction (the terrain's coefficient in every "
-             "direction); the robot walks forward through the dynamics of the bound and its "
-             "springy knees.",
-        why="The engine's directional friction (issue 22) was not available when the "
-            "recordings were generated.",
-        config=("ch5.terrains",),
+               "asymmetrical friction'; no coefficients.",
+        ours="Directional Coulomb friction at the paws along the robot's forward axis: the "
+             "terrain's coefficient against sliding backward and sideways, half of it "
+             "(ch5.model.skin_ratio 0.5) against sliding forward.",
+        why="No source gives the skin's ratio; directional skins grip two to several times "
+            "harder against their grain, and 0.5 is the mild end (reasons in "
+            "thesis.physics.models.puppy).",
+        config=("ch5.model.skin_ratio",),
     ),
     Departure(
         id="ch5.terrain_materials", kind="choice", results=_ALL,

@@ -4,7 +4,8 @@ Every trial is Puppy II (:mod:`thesis.physics.models.puppy`) running one gait
 (:mod:`thesis.terrain.gaits`) at one frequency on one terrain for 3000-6500 samples at
 50 Hz. Terrains differ *only* in the floor's contact physics -- Coulomb friction,
 restitution and contact softness (natural frequency, damping ratio), the profile's
-``ch5.terrains`` -- each parameter jittered by a uniform +-``jitter`` per trial, and the
+``ch5.terrains`` -- each parameter jittered by a uniform +-``jitter`` per trial (the
+paws' directional skin takes ``ch5.model.skin_ratio`` of the friction forward), and the
 64 signals (:mod:`thesis.terrain.sensors`) carry white sensor noise (``ch5.noise``).
 Each trial starts from standing at a random heading and position near the arena centre;
 a trial stops when the robot turns over (the trunk's up axis below ``fallen_up``), as
@@ -135,8 +136,11 @@ def _chunk_fn(model_key, n_samples: int, steps: int, n_dev: int):
     paws, trunk = pup.paw_spheres(model), pup.trunk_index(model)
 
     def one(mat, s0, cmds):
-        m = model.replace(material_friction=mat[0:1], material_restitution=mat[1:2],
-                          material_hz=mat[2:3], material_zeta=mat[3:4])
+        mu = mat[0:1]  # the terrain's coefficient; the paws' skin grips less forward
+        m = model.replace(material_friction=mu, material_friction_backward=mu,
+                          material_friction_forward=float(model_key[2]) * mu,
+                          material_restitution=mat[1:2], material_hz=mat[2:3],
+                          material_zeta=mat[3:4])
 
         def ctrl(_, sens, k, t):
             return cmds[jnp.minimum(k // steps, n_samples - 1)].astype(s0.pos.dtype), k + 1
@@ -271,12 +275,13 @@ def generate(cfg: dict, root_seed: int, *, log=None, experiment: str = "ch5/pupp
     rec = cfg["recordings"]
     rate = float(rec["sample_rate"])
     mcfg = cfg["model"]
-    model, state0 = _puppy().puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"])
+    model, state0 = _puppy().puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"],
+                                   skin_ratio=mcfg["skin_ratio"])
     steps = int(round(1.0 / rate / float(mcfg["dt"])))
     if abs(steps * float(mcfg["dt"]) * rate - 1.0) > 1e-9:
         raise ValueError(f"ch5.model.dt={mcfg['dt']} does not divide the sample period "
                          f"1/{rate} s")
-    key = (mcfg["dt"], mcfg["solver_iterations"])
+    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"])
     _MODELS[key] = model
     table = trial_table(cfg, seeding.rng(root_seed, experiment + "/trials"))
     n_dev = min(jax.device_count(), int(rec["batch"]))

@@ -40,9 +40,16 @@ fitted to a result of the thesis.
   with 2.0 it turned over in slow (0.25 Hz) gaits.
   Knee angle: positive = flexion.
 * **Paws**: a 12 mm contact sphere at the tibia's distal end, carrying the paw's force
-  sensor. The skin's asymmetric friction is a property of the foot-floor contact,
-  given by the terrain (the chapter's terrain code sets the floor material); this
-  file builds the robot on a plain default floor (friction 0.6).
+  sensor. The skin's "asymmetrical friction" is the engine's directional friction
+  (``Builder.add_contact_sphere(..., direction=...)``) along the robot's forward axis
+  (the world +x of the build pose, fixed in the tibia): a paw sliding backward meets
+  the floor's full Coulomb coefficient mu, one sliding forward ``skin_ratio * mu``
+  (default 0.5), sideways mu. The thesis gives no ratio; directional skins (scales,
+  bristles, ski skins) grip two to several times harder against their grain than with
+  it, and 0.5 is the mild end of that range: the skin helps the stance push the robot
+  forward without making a backward slide impossible. The floor's mu comes from the
+  terrain (the chapter's terrain code sets the floor material, forward coefficient
+  included); this file builds the robot on a plain default floor (friction 0.6).
 * **Bumpers**: four 10 mm contact spheres at the trunk's lower corners catch a fall.
 * **Solver**: dt 5 ms (4 physics steps per 20 ms sample of the 50 Hz recordings),
   30 block-Jacobi sweeps with relaxation 0.3 (the setting the Oncilla needed for its
@@ -110,7 +117,7 @@ def leg_height() -> float:
 def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
           hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=3.0,
           knee_preload=0.1, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
-          restitution=0.0, dtype=jnp.float32):
+          restitution=0.0, skin_ratio=0.5, dtype=jnp.float32):
     """Build Puppy II standing on a flat floor (plane ``"floor"``, material
     ``"default"``); returns ``(Model, State)``.
 
@@ -122,11 +129,18 @@ def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
             knee's torsion spring (rest angle ``-knee_preload``, i.e. pushing towards
             extension against the stop at 0); knee_max_flexion [rad]: the flexion stop.
         friction, restitution: the default floor material (terrains replace it).
+        skin_ratio: the paws' forward / backward friction ratio (1: isotropic friction);
+            the floor material's ``friction_forward`` is ``skin_ratio * friction``.
     Hip commands (the servo actions) are angles relative to the build pose [rad],
     positive = femur swung forward.
     """
     b = Builder("puppy", dt=dt, solver_iterations=solver_iterations, relaxation=relaxation,
                 friction=friction, restitution=restitution, contact_slop=0.001)
+    if not 0.0 < float(skin_ratio) <= 1.0:
+        raise ValueError(f"puppy: skin_ratio must lie in (0, 1], got {skin_ratio}")
+    default = b.materials[0]
+    b.add_material("default", friction, restitution, default["hz"], default["zeta"],
+                   friction_forward=float(skin_ratio) * friction, friction_backward=friction)
     b.add_plane("floor", (0, 0, 1), 0.0, color=(0.35, 0.35, 0.4))
     z_hip = leg_height() + PAW_RADIUS
     z_trunk = z_hip - HIPS[0][2]
@@ -150,7 +164,9 @@ def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         b.add_hinge(f"{leg}_knee", f"{leg}_femur", f"{leg}_tibia", knee, knee_axis,
                     limits=(0.0, knee_max_flexion))
         b.add_joint_spring(f"{leg}_knee", knee_spring, knee_damping, rest_angle=-knee_preload)
-        b.add_contact_sphere(f"{leg}_tibia", PAW_RADIUS, (0, 0, -TIBIA / 2))
+        # the skin's grain: the robot's forward axis, in the tibia's frame
+        b.add_contact_sphere(f"{leg}_tibia", PAW_RADIUS, (0, 0, -TIBIA / 2),
+                             direction=_roty(-LEG_ANGLE).T @ np.array([1.0, 0.0, 0.0]))
         b.add_position_servo(f"{leg}_hip", servo_gain, hip_torque, hip_velocity,
                              command_range=(-hip_range, hip_range), name=f"{leg}_hip")
     return b.build(dtype)
