@@ -11,7 +11,8 @@ Inputs are padded arrays ``u`` of shape (P, T, K) (P parts, T the longest part, 
 inputs) with ``lengths`` (P,); outputs (P, T, N) hold garbage after each part's length,
 which every consumer masks (:func:`thesis.terrain.protocol.valid_mask`). The linear
 recursions run as IIR filters (``scipy.signal.lfilter``); the ESN runs a loop over time
-whose batch shrinks to the parts still running (parts sorted by length), in float64.
+whose batch shrinks to the parts still running (parts sorted by length), in float64,
+time-major and in place (the same operations in the same order as the equation).
 
 Weights (§5.2.2-5.2.3): ``W_in`` entries uniform on {-1, 0, 1} times the input scaling
 (for the ELM and the ESN alike, so the two differ only by ``W_res``); ``W_res`` standard
@@ -79,18 +80,25 @@ def esn_states(u: np.ndarray, lengths: np.ndarray, w_in: np.ndarray, w_res: np.n
     p, t_max, _ = u.shape
     n = w_in.shape[0]
     order = np.argsort(-lengths, kind="stable")
-    drive = u[order] @ np.asarray(w_in, np.float64).T  # (P, T, N)
+    # time-major drive and states: each step reads and writes contiguous (k, N) blocks
+    drive = np.ascontiguousarray(
+        (u[order] @ np.asarray(w_in, np.float64).T).transpose(1, 0, 2))  # (T, P, N)
     ls = lengths[order]
     a = float(leak)
     w_t = np.asarray(w_res, np.float64).T
-    out = np.zeros((p, t_max, n))
+    out = np.zeros((t_max, p, n))
     x = np.zeros((p, n))
+    buf = np.empty((p, n))
     for t in range(int(ls.max()) if p else 0):
         k = int(np.sum(ls > t))  # parts still running (sorted by length)
-        xk = x[:k]
-        xk = (1.0 - a) * xk + a * np.tanh(xk @ w_t + drive[:k, t])
-        x[:k] = xk
-        out[:k, t] = xk
-    res = np.empty_like(out)
-    res[order] = out
+        xk, bk = x[:k], buf[:k]  # in place: x <- (1 - a) x + a tanh(W x + W_in u)
+        np.matmul(xk, w_t, out=bk)
+        bk += drive[t, :k]
+        np.tanh(bk, out=bk)
+        bk *= a
+        xk *= 1.0 - a
+        xk += bk
+        out[t, :k] = xk
+    res = np.empty((p, t_max, n))
+    res[order] = out.transpose(1, 0, 2)
     return res
