@@ -73,3 +73,15 @@ def test_elm_matches_reservoirpy_without_recurrence(setup):
                      lr=0.25, activation="tanh")
     np.testing.assert_allclose(R.elm_states(u[2:], w_in, 0.25)[0], np.asarray(node.run(u[2])),
                                rtol=1e-9, atol=1e-10)
+
+
+def test_exp_based_tanh_matches_numpy_to_float64_accuracy():
+    z = np.concatenate([np.linspace(-30, 30, 20001), [0.0, -0.0, 1e-300, -1e-12, 400.0,
+                                                      -400.0, 1e6, -1e6]])
+    with np.errstate(all="raise"):  # no overflow warning leaks out
+        got = R.tanh(z)
+    np.testing.assert_allclose(got, np.tanh(z), rtol=0, atol=1e-15)
+    assert got[-4] == 1.0 and got[-3] == -1.0 and got[-2] == 1.0 and got[-1] == -1.0
+    buf = z.copy()
+    assert R.tanh(buf, out=buf) is buf
+    np.testing.assert_array_equal(buf, got)

@@ -12,7 +12,7 @@ inputs) with ``lengths`` (P,); outputs (P, T, N) hold garbage after each part's 
 which every consumer masks (:func:`thesis.terrain.protocol.valid_mask`). The linear
 recursions run as IIR filters (``scipy.signal.lfilter``); the ESN runs a loop over time
 whose batch shrinks to the parts still running (parts sorted by length), in float64,
-time-major and in place (the same operations in the same order as the equation).
+time-major and in place. tanh is :func:`tanh` (exp-based, float64, faster than numpy's).
 
 Weights (§5.2.2-5.2.3): ``W_in`` entries uniform on {-1, 0, 1} times the input scaling
 (for the ELM and the ESN alike, so the two differ only by ``W_res``); ``W_res`` standard
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import lfilter
 
-__all__ = ["input_weights", "reservoir_weights", "ema", "elm_states", "esn_states"]
+__all__ = ["input_weights", "reservoir_weights", "tanh", "ema", "elm_states", "esn_states"]
 
 
 def input_weights(rng: np.random.Generator, n_nodes: int, n_inputs: int) -> np.ndarray:
@@ -39,6 +39,25 @@ def reservoir_weights(rng: np.random.Generator, n_nodes: int) -> np.ndarray:
     w = rng.standard_normal((int(n_nodes), int(n_nodes)))
     rho = float(np.max(np.abs(np.linalg.eigvals(w))))
     return w / rho
+
+
+def tanh(z: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """tanh of float64 ``z`` as 1 - 2 / (exp(2 z) + 1), into ``out`` if given (may be ``z``).
+
+    The hidden layers' cost is mostly tanh: numpy's float64 exp is vectorised (SIMD) on
+    x86-64 and its tanh is not, so this is 2-4x faster than ``np.tanh``. Absolute error
+    below 1e-15 (the relative error of tiny |z| grows, the absolute one does not; every
+    consumer adds the result to O(1) states); exp(2 z) overflowing to inf gives 1 exactly.
+    """
+    z = np.asarray(z, np.float64)
+    out = np.empty_like(z) if out is None else out
+    np.multiply(z, 2.0, out=out)
+    with np.errstate(over="ignore", under="ignore"):
+        np.exp(out, out=out)
+    out += 1.0
+    np.divide(-2.0, out, out=out)
+    out += 1.0
+    return out
 
 
 def ema(u: np.ndarray, leak: float) -> np.ndarray:
@@ -61,7 +80,8 @@ def elm_states(u: np.ndarray, w_in: np.ndarray, leak: float) -> np.ndarray:
     Returns:
         (P, T, N) float64.
     """
-    return ema(np.tanh(np.asarray(u, np.float64) @ np.asarray(w_in, np.float64).T), leak)
+    h = np.asarray(u, np.float64) @ np.asarray(w_in, np.float64).T
+    return ema(tanh(h, out=h), leak)
 
 
 def esn_states(u: np.ndarray, lengths: np.ndarray, w_in: np.ndarray, w_res: np.ndarray,
@@ -94,7 +114,7 @@ def esn_states(u: np.ndarray, lengths: np.ndarray, w_in: np.ndarray, w_res: np.n
         xk, bk = x[:k], buf[:k]  # in place: x <- (1 - a) x + a tanh(W x + W_in u)
         np.matmul(xk, w_t, out=bk)
         bk += drive[t, :k]
-        np.tanh(bk, out=bk)
+        tanh(bk, out=bk)
         bk *= a
         xk *= 1.0 - a
         xk += bk
