@@ -101,6 +101,10 @@ def compare(ds: xr.Dataset, ref: dict) -> list[str]:
             problems.append(f"variable {name!r} shape {got.shape} != {want.shape}")
             continue
         if not _close(var.values, spec["values"], policy["rtol"], policy["atol"]):
+            if _is_text(var.values) or _is_text(spec["values"]):
+                problems.append(f"variable {name!r} labels differ: {got.tolist()} != "
+                                f"{want.tolist()}")
+                continue
             a = np.asarray(var.values, dtype=float)
             b = np.asarray(spec["values"], dtype=float)
             with np.errstate(invalid="ignore"):
@@ -113,10 +117,14 @@ def compare(ds: xr.Dataset, ref: dict) -> list[str]:
     return problems
 
 
+def _is_text(values) -> bool:
+    return np.asarray(values).dtype.kind in "USO"
+
+
 def _close(a, b, rtol, atol) -> bool:
     a = np.asarray(a)
     b = np.asarray(b)
-    if a.dtype.kind in "US O" or b.dtype.kind in "US O":
+    if _is_text(a) or _is_text(b):
         return a.astype(str).tolist() == b.astype(str).tolist()
     a = a.astype(float)
     b = b.astype(float)

@@ -46,6 +46,17 @@ def test_wall_time_is_recorded_but_not_compared():
     assert regression.compare(_ds(secs=(50.0, 60.0)), ref) == []
 
 
+def test_changed_labels_are_reported_not_raised():
+    """A text variable (e.g. a fate per seed) that changes is a reported difference."""
+    def ds(fate):
+        return xr.Dataset({"fate": xr.DataArray(np.array(fate), dims="seed")},
+                          coords={"seed": [0, 1]})
+    ref = json.loads(json.dumps(regression.to_reference(ds(["settles", "dies_out"]))))
+    assert regression.compare(ds(["settles", "dies_out"]), ref) == []
+    problems = regression.compare(ds(["settles", "settles"]), ref)
+    assert len(problems) == 1 and "'fate' labels differ" in problems[0]
+
+
 def test_missing_and_new_variables_and_shape_changes_are_reported():
     ref = regression.to_reference(_ds())
     ds = _ds().rename({"test_error": "error"})
