@@ -32,12 +32,12 @@ exactly 0, so the update is ``R cay(dt R^T w)``.
 
 Each fixed-point iteration shrinks the residual by a factor of order ``dt |u|`` (larger
 for bodies whose principal moments differ widely); ``MIDPOINT_ITERATIONS = 2`` leave a rate
-error of third order in dt: a float64 box tumbling at 5 rad/s keeps its energy to 4e-8 over 10^4 steps of 1 ms
-(float32: to its round-off, 2e-4), and a body spinning at dt |w| = 0.5 loses a few per cent
-of its energy instead of gaining it. Newton's method on the same equation converges
-quadratically, but its 3 x 3 Jacobian solves cost 15-20 % of a whole step of the Tab. 7.1
-quadruped (forward and gradient), while the fixed point's matrix-vector products cost what
-the explicit update cost.
+error of third order in dt: a float64 box tumbling at 5 rad/s keeps its energy to 4e-8
+over 10^4 steps of 1 ms (float32: to its round-off, 2e-4), and a body spinning at
+dt |w| = 0.5 loses a few per cent of its energy instead of gaining it. Newton's method on
+the same equation converges quadratically, but its 3 x 3 Jacobian solves cost 15-20 % of a
+whole step of the Tab. 7.1 quadruped (forward and gradient), while the fixed point's
+matrix-vector products cost what the explicit update cost.
 
 Eq. 7.1 (``orthonormalize``, ``model.reortho_iterations`` steps) removes the round-off of
 the product; the original used the first-order update ``R + dt [w]x R``, whose
