@@ -44,9 +44,9 @@ def test_soft_front_legs_halve_only_the_front_knee_springs(cfg):
         C.condition_model(cfg, "grade30")
 
 
-def test_every_condition_has_the_safety_bridle_and_untethered_never_pulls(cfg):
+def test_every_condition_has_the_safety_thread_and_untethered_never_pulls(cfg):
     m, _ = C.condition_model(cfg, "grade18")
-    assert m.tether_names == ("thread_left", "thread_right")
+    assert m.tether_names == ("thread",)
     np.testing.assert_allclose(np.asarray(m.tether_slack), cfg["tether"]["slack"], rtol=1e-6)
     bare = C.untethered(m)
     assert np.asarray(bare.tether_slack).min() >= 100.0
@@ -63,25 +63,30 @@ def _rolled(model, state, angle):
     return rot
 
 
-def test_the_bridle_is_slack_standing_and_taut_when_the_trunk_rolls(cfg):
-    """The default bridle (two threads from the head's top corners) is loose on the
-    standing robot and stretches beyond its slack when the trunk rolls by 25 degrees
-    either way, where one thread on the centre line is not stretched at all: that is
-    why the bridle limits roll and the single thread does not."""
+def test_the_thread_is_slack_standing_and_taut_when_the_head_drops_or_strays(cfg):
+    """The default single thread (§4.5) is loose on the standing robot, taut once the
+    head drops 3 cm or the robot strays 0.25 m sideways, and a 25-degree roll hardly
+    stretches it; a bridle (two threads from the head's top corners) is stretched by
+    the same roll either way: the bridle limits roll, the single thread does not."""
     from thesis.physics.step import tether_geometry
     m, st = C.base_model(cfg)
+    assert m.tether_names == ("thread",)
     slack = float(cfg["tether"]["slack"])
     _, d0, _ = tether_geometry(m, st.pos, st.rot)
-    assert np.all(np.asarray(d0) < slack - 0.01)
+    assert float(d0[0]) < slack - 0.015
+    for shift in ((0.0, 0.0, -0.03), (0.0, 0.25, 0.0), (0.0, -0.25, 0.0)):
+        _, d, _ = tether_geometry(m, np.asarray(st.pos) + np.asarray(shift), st.rot)
+        assert float(d[0]) > slack
+    _, d_roll, _ = tether_geometry(m, st.pos, _rolled(m, st, 0.44))
+    assert float(d_roll[0]) < float(d0[0]) + 0.01
+    bridle, st2 = R.O.oncilla(tether_rail_height=cfg["tether"]["rail_height"],
+                              tether_slack=slack, tether_stiffness=1.0, tether_damping=0.0,
+                              tether_width=0.16)
+    assert bridle.tether_names == ("thread_left", "thread_right")
+    _, d2_0, _ = tether_geometry(bridle, st2.pos, st2.rot)
     for angle in (0.44, -0.44):
-        _, d, _ = tether_geometry(m, st.pos, _rolled(m, st, angle))
-        assert np.asarray(d).max() > slack
-    single, st1 = R.O.oncilla(tether_rail_height=cfg["tether"]["rail_height"], tether_slack=slack,
-                              tether_stiffness=1.0, tether_damping=0.0, tether_width=0.0)
-    assert single.tether_names == ("thread",)
-    _, d1, _ = tether_geometry(single, st1.pos, _rolled(single, st1, 0.44))
-    _, d1_0, _ = tether_geometry(single, st1.pos, st1.rot)
-    assert float(d1[0]) < float(d1_0[0]) + 0.01
+        _, d2, _ = tether_geometry(bridle, st2.pos, _rolled(bridle, st2, angle))
+        assert np.asarray(d2).max() > np.asarray(d2_0).max() + 0.03
     with pytest.raises(ValueError, match="tether_width"):
         R.O.oncilla(tether_rail_height=1.0, tether_slack=slack, tether_stiffness=1.0,
                     tether_width=0.3)
@@ -170,7 +175,7 @@ def test_pebble_layout_covers_the_strip_with_1cm_pebbles_on_the_floor(cfg):
 def test_pebbly_model_has_the_field_and_the_thread(cfg):
     m, _ = C.condition_model(cfg, "pebbly", 0)
     assert m.field_name == "pebbles" and m.field_k == cfg["pebbles"]["k"]
-    assert m.tether_names == ("thread_left", "thread_right")
+    assert m.tether_names == ("thread",)
     with pytest.raises(ValueError, match="root seed"):
         C.condition_model(cfg, "pebbly")
 
@@ -191,9 +196,9 @@ def test_start_range_leaves_room_for_the_walk_and_names_a_short_strip(cfg):
 
 
 def test_thread_load_counts_taut_poses_and_their_tension(cfg):
-    """Robot 0 stands loose under the bridle; robot 1's trunk sits 5 cm lower (3 cm past
-    the bridle's 2-cm play) for the second half of the window: taut half the time, with
-    a tension of k (d - slack) per thread."""
+    """Robot 0 stands loose under the thread; robot 1's trunk sits 5 cm lower (3 cm past
+    the thread's 2-cm play) for the second half of the window: taut half the time, with
+    a tension of k (d - slack)."""
     K = 100
     z = np.full((2, K), 0.172)
     z[1, K // 2:] = 0.172 - 0.05

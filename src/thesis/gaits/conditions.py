@@ -9,8 +9,8 @@ so the batched simulation of :mod:`thesis.gaits.runner` is compiled once for all
   For the single infinite floor plane this is the physics of an inclined treadmill seen
   in the belt's frame; the fall test (trunk height above the plane, tilt of the trunk
   against the plane's normal) keeps its meaning.
-* **Safety thread** (§4.5): every condition runs with the bridle of threads from the head
-  to an overhead rail (``tether`` config; :func:`untethered` removes it).
+* **Safety thread** (§4.5): every condition runs with the thread from the head to an
+  overhead rail (``tether`` config; :func:`untethered` removes it).
 * **Pebbles** (§4.6.3, "a flat surface covered in pebbles ... with a diameter of
   approximately 1 cm"): the engine's static sphere field (``oncilla(field=...)``) of
   equal spheres resting on the floor, scattered uniformly over a strip along x

@@ -82,7 +82,7 @@ def distance(x, y) -> np.ndarray:
 
 def _flat_best(flat: xr.Dataset):
     """(S, 12) best flat particle, (S,) its speed, score, generation, (S, R) re-evaluations
-    (speed, fallen, bridle taut fraction)."""
+    (speed, fallen, taut fraction of the safety thread)."""
     g = flat["best_generation"].values.astype(int)
     k = flat["best_particle"].values.astype(int)
     i = np.arange(len(g))

@@ -53,7 +53,7 @@ def _best_table(results, key, tid, title, ref, dim, rows) -> Table:
         out.append(row)
     note = ("Each cell: thesis (one run) / reproduced (mean ± sd over seeds). Speed: in-run "
             "speed of the best particle (the thesis's); re-evaluated: the same particle from "
-            "standstill, every repeat and seed pooled; bridle taut: the fraction of those "
+            "standstill, every repeat and seed pooled; thread taut: the fraction of those "
             "windows with a safety thread taut (0 = walked free, as on the thesis's loose "
             "thread). Distances are in range-normalised units (at most 3.46), the thesis's "
             "normalisation is unknown: compare orderings only. Absolute speeds belong to the "
@@ -64,7 +64,7 @@ def _best_table(results, key, tid, title, ref, dim, rows) -> Table:
                                         "transition_seconds") if k in ds.attrs)
     return Table(id=tid, title=title, thesis_ref=ref,
                  columns=["row", "transfer", *PRINT_ORDER, "speed [m/s]",
-                          "re-evaluated speed [m/s]", "bridle taut (re-evaluated)",
+                          "re-evaluated speed [m/s]", "thread taut (re-evaluated)",
                           "Euclidean distance", "generation of the best"], rows=out, note=note)
 
 
@@ -164,7 +164,7 @@ def falls_table(results) -> Table:
         rows = [[NOT_RUN] * 6]
     return Table(id="falls", title="Fraction of fallen evaluations", thesis_ref="§4.5",
                  columns=["run", "transfer", "first generation", "last generation",
-                          "all generations", "bridle taut: standing / fallen evaluations"],
+                          "all generations", "thread taut: standing / fallen evaluations"],
                  rows=rows,
                  note="On the treadmill an assistant intervened on unstable gaits; here a fall "
                       "scores -2 + the fraction of the window the robot stayed up, below every "
@@ -175,7 +175,7 @@ def falls_table(results) -> Table:
 
 
 def _taut(ds) -> str:
-    """Mean taut fraction of the bridle over standing / fallen evaluations of ``ds``."""
+    """Mean taut fraction of the safety thread over standing / fallen evaluations of ``ds``."""
     if "taut" not in ds:
         return "—"
     taut, fell = ds["taut"].values, ds["fallen"].values.astype(bool)
