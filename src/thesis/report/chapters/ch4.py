@@ -168,7 +168,7 @@ def falls_table(results) -> Table:
                  rows=rows,
                  note="On the treadmill an assistant intervened on unstable gaits; here a fall "
                       "scores -2 + the fraction of the window the robot stayed up, below every "
-                      "gait that walks (departure ch4.fall_handling). Bridle taut: the mean "
+                      "gait that walks (departure ch4.fall_handling). Thread taut: the mean "
                       "fraction of the window with a safety thread taut, over the evaluations "
                       "that stayed up and over those that fell (departure ch4.tether; the "
                       "thesis's thread was loose during normal operation).")
