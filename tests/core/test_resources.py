@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import pytest
 import yaml
 
@@ -79,3 +82,27 @@ def test_committed_file_covers_the_smoke_profile():
     for profile, entries in table.items():
         for name, entry in entries.items():
             assert entry["mem_mb"] >= R.MEM_EXTRA_MB and entry["runtime"] >= 1, (profile, name)
+
+
+def _rule_blocks():
+    """(file, text) of every rule declared in workflow/rules/*.smk."""
+    for path in sorted((Path(__file__).resolve().parents[2] / "workflow" / "rules").glob("*.smk")):
+        parts = re.split(r"^\s*rule\b", path.read_text(), flags=re.M)
+        yield from ((path.name, block) for block in parts[1:])
+
+
+def test_every_job_is_benchmarked_under_the_name_it_requests_resources_for():
+    """A rule that runs a job writes a benchmark file and asks the cluster for what that
+    same file measured: the two names must agree, or the rule requests another job's
+    resources (a loop variable left over from an earlier loop did exactly that)."""
+    jobs = 0
+    for name, block in _rule_blocks():
+        if "shell:" not in block:
+            continue
+        jobs += 1
+        bench = re.search(r"bench_path\(\s*([^)]*?)\s*\)", block)
+        req = re.search(r"\bres\(\s*(\"[^\"]+\"\s*,\s*[^,]+?)\s*,\s*mem_mb", block)
+        assert bench and req, (name, block[:120])
+        assert re.sub(r"\s", "", bench.group(1)) == re.sub(r"\s", "", req.group(1)), (
+            name, bench.group(1), req.group(1))
+    assert jobs >= 20

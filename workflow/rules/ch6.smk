@@ -83,9 +83,11 @@ for _fig, _src in [("fig6_4", "trot"), ("fig6_5", "walk")]:
             src=_src,
         log:
             log_path("ch6", _fig),
+        benchmark:
+            bench_path("ch6", _fig)
         threads: 1
         resources:
-            **res("ch6", _name, mem_mb=2000, runtime=10),
+            **res("ch6", _fig, mem_mb=2000, runtime=10),
         shell:
             "{THESIS} run {params.key} --profile {PROFILE} "
             "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
