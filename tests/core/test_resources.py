@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import pytest
 import yaml
 
+from thesis import config
 from thesis import resources as R
 
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
@@ -86,7 +86,7 @@ def test_committed_file_covers_the_smoke_profile():
 
 def _rule_blocks():
     """(file, text) of every rule declared in workflow/rules/*.smk."""
-    for path in sorted((Path(__file__).resolve().parents[2] / "workflow" / "rules").glob("*.smk")):
+    for path in sorted((config.repo_root() / "workflow" / "rules").glob("*.smk")):
         parts = re.split(r"^\s*rule\b", path.read_text(), flags=re.M)
         yield from ((path.name, block) for block in parts[1:])
 
