@@ -14,6 +14,10 @@ is the longest job of the suite.
 
 from __future__ import annotations
 
+# thesis first: its import pins numpy's and OpenBLAS's CPU code paths (thesis.cpupins),
+# which they read when they load, and jax loads numpy
+import thesis  # noqa: F401, I001
+
 import jax
 import pytest
 

@@ -29,7 +29,7 @@ RESULTS_DIR = Path("results")
 PROVENANCE_ATTRS = (
     "thesis_ref", "profile", "experiment", "config_sha256", "config_json", "git_commit",
     "git_dirty", "seeds", "python_version", "jax_version", "jaxlib_version",
-    "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "started",
+    "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "cpu_pins", "started",
     "wall_seconds", "departures",
 )
 
@@ -120,6 +120,9 @@ def provenance_attrs(*, profile: str, experiment: str, config_slice: Any,
         "host": provenance.host(),
         # the ISA and reduction flags change the last bits of every XLA result
         "xla_flags": os.environ.get("XLA_FLAGS", ""),
+        # numpy's and OpenBLAS's CPU code paths (thesis.cpupins) change ch5's last bits
+        "cpu_pins": canonical_json({k: os.environ.get(k, "") for k in
+                                    ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}),
         "started": started.astimezone(timezone.utc).isoformat(timespec="seconds"),
         "wall_seconds": float(wall_seconds),
         "Conventions": "CF-1.10",
@@ -203,7 +206,7 @@ def provenance_of(ds: xr.Dataset) -> dict[str, Any]:
         elif isinstance(v, np.generic):
             v = v.item()
         out[k] = v
-    for k in ("package_versions", "departures"):
+    for k in ("package_versions", "departures", "cpu_pins"):
         if isinstance(out.get(k), str):
             out[k] = json.loads(out[k])
     return out

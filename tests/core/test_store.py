@@ -46,6 +46,7 @@ def test_round_trip_keeps_values_and_provenance(tmp_path):
     for k in ("jax", "jaxlib", "numpy", "xarray", "python"):
         assert prov["package_versions"][k]
     assert prov["host"]
+    assert set(prov["cpu_pins"]) == {"NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE"}
 
 
 def test_config_hash_changes_with_config(tmp_path):

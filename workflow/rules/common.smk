@@ -22,7 +22,8 @@ FIGURES = {ch: [] for ch in CHAPTERS}
 TABLES = {ch: [] for ch in CHAPTERS}
 
 # Code each chapter runs; its hash goes into params so code changes trigger reruns.
-CORE_CODE = ["store.py", "cli.py", "config.py", "runctx.py", "seeding.py", "jaxsetup.py"]
+CORE_CODE = ["__init__.py", "store.py", "cli.py", "config.py", "runctx.py", "seeding.py",
+             "jaxsetup.py", "cpupins.py"]
 CHAPTER_CODE = {
     "ch2": ["chirpz"],
     "ch3": ["gaits", "optim", "physics"],

@@ -1,0 +1,58 @@
+"""thesis.cpupins: numpy and OpenBLAS held to AVX2-class code paths on x86-64 hosts."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from thesis import cpupins
+
+
+def test_pins_on_x86_64_with_and_without_avx2():
+    full = cpupins.pins("x86_64", {"avx2", "fma", "avx512f"})
+    assert full == {"NPY_DISABLE_CPU_FEATURES": cpupins.NPY_ABOVE_AVX2,
+                    "OPENBLAS_CORETYPE": "Haswell"}
+    # a CPU without FMA cannot run OpenBLAS's Haswell kernels: OpenBLAS keeps its choice
+    assert "OPENBLAS_CORETYPE" not in cpupins.pins("AMD64", {"avx2"})
+    assert cpupins.pins("aarch64", {"asimd"}) == {}
+
+
+def test_pin_leaves_a_variable_the_user_set(monkeypatch):
+    env = {"OPENBLAS_CORETYPE": "SkylakeX"}
+    monkeypatch.setattr(cpupins, "pins", lambda: {"NPY_DISABLE_CPU_FEATURES": "X86_V4",
+                                                  "OPENBLAS_CORETYPE": "Haswell"})
+    assert cpupins.pin(env) == {"NPY_DISABLE_CPU_FEATURES": "X86_V4",
+                                "OPENBLAS_CORETYPE": "SkylakeX"}
+
+
+def test_cpu_flags_reads_the_first_flags_line(tmp_path):
+    info = tmp_path / "cpuinfo"
+    info.write_text("processor\t: 0\nflags\t\t: fpu sse2 avx2 fma\n\nflags\t: other\n")
+    assert cpupins.cpu_flags(info) == {"fpu", "sse2", "avx2", "fma"}
+    assert cpupins.cpu_flags(tmp_path / "missing") == set()
+
+
+@pytest.mark.skipif(not cpupins.pins(), reason="numpy and OpenBLAS are pinned on x86-64 only")
+def test_importing_thesis_first_pins_numpy_and_openblas():
+    """What a pipeline job sees: ``python -m thesis`` imports the package before numpy."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}
+    code = ("import thesis, json, numpy, scipy.linalg, threadpoolctl; "
+            "f = numpy._core._multiarray_umath.__cpu_features__; "
+            "print(json.dumps({'x86_v4': f.get('X86_V4', False), "
+            "'spr': f.get('AVX512_SPR', False), 'avx2': f.get('AVX2'), "
+            "'blas': sorted({i.get('architecture') for i in threadpoolctl.threadpool_info() "
+            "if i['internal_api'] == 'openblas'})}))")
+    out = json.loads(subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                    capture_output=True, text=True).stdout)
+    # numpy's AVX-512 loops are off, its AVX2 loops stay; every OpenBLAS loaded (numpy's,
+    # scipy's) runs the Haswell kernels
+    assert out["x86_v4"] is False and out["spr"] is False
+    flags = cpupins.cpu_flags()
+    if {"avx2", "fma"} <= flags:
+        assert out["avx2"] is True
+        assert out["blas"] == ["Haswell"]
