@@ -37,7 +37,8 @@ test: env chromium
 test-fast: env
 	$(UV) run --locked $(EXTRAS) pytest $(XDIST) -m "not pipeline and not browser and not cluster"
 
-# Rewrite the smoke references on purpose (prints what changed).
+# Rewrite the smoke references of this host's class on purpose (thesis.regression; prints
+# what changed).
 update-reference: env
 	$(SNAKEMAKE) --config profile=smoke
 	$(UV) run --locked $(EXTRAS) python -m thesis.regression update smoke tests/regression/smoke

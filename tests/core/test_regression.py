@@ -9,7 +9,10 @@ import numpy as np
 import xarray as xr
 
 from thesis import regression
+from thesis.config import load_config
 from thesis.store import WALL_CLOCK
+
+from ..ch2_chance import CHANCE_ERROR, better_than_chance
 
 
 def _ds(err=(0.1, 0.2), secs=(1.0, 2.0), sim=(3.0, 4.0)):
@@ -111,6 +114,9 @@ def test_write_references_reports_changes(tmp_path):
 
 
 REFERENCES = Path(__file__).resolve().parents[1] / "regression" / "smoke"
+#: Every committed reference file: the canonical ones and those of other host classes.
+REFERENCE_FILES = sorted(REFERENCES.glob("*/*.json")) + sorted(
+    REFERENCES.parent.glob(f"{REFERENCES.name}-*/*/*.json"))
 
 
 def _numeric(values):
@@ -124,10 +130,9 @@ def _numeric(values):
 def test_committed_tolerances_are_narrower_than_the_spread_of_their_quantity():
     """A tolerance of its own (wider than the rounding guard) must not cover every value
     the quantity takes in its reference, or the comparison checks nothing."""
-    files = sorted(REFERENCES.glob("*/*.json"))
-    assert files, REFERENCES
+    assert REFERENCE_FILES, REFERENCES
     widened = 0
-    for path in files:
+    for path in REFERENCE_FILES:
         for name, spec in json.loads(path.read_text())["variables"].items():
             default = (spec["rtol"], spec["atol"]) == (regression.DEFAULT_RTOL,
                                                        regression.DEFAULT_ATOL)
@@ -150,26 +155,80 @@ def test_committed_references_skip_only_wall_clock_like_variables():
               "compile_seconds", "ms_per_robot_step", "peak_memory_bytes",
               "rollout_wall_seconds", "rollout_cpu_seconds", "robot_seconds_per_cpu_second",
               "compile_wall_seconds"}
-    for path in sorted(REFERENCES.glob("*/*.json")):
+    for path in REFERENCE_FILES:
         for name, spec in json.loads(path.read_text())["variables"].items():
             if not spec["compare"]:
                 assert name in marked, f"{path.parent.name}/{path.name}: {name} skipped"
 
 
-#: Per-digit error of a classifier that learned nothing (10 classes) and the bound the
-#: smoke profile's Tab. 2.2 cells must stay under: the smoke is sized so that a working
-#: model is clearly better than chance (config/smoke.yaml, ch2).
-CH2_CHANCE_ERROR = 0.9
-CH2_SMOKE_MAX_ERROR = 0.8
+def test_every_host_class_reference_has_a_canonical_one():
+    """A host class's own reference replaces a canonical one; it never adds a result."""
+    own = [p for p in REFERENCE_FILES if p.parent.parent != REFERENCES]
+    for path in own:
+        assert (REFERENCES / path.parent.name / path.name).exists(), path
+        host = path.parent.parent.name.removeprefix(f"{REFERENCES.name}-")
+        assert regression.host_root(REFERENCES, host) == path.parent.parent
 
 
-def test_ch2_smoke_reference_is_clearly_better_than_chance():
-    """Every cell of the committed smoke Tab. 2.2 learned: a reference rewritten from models
-    that learned nothing (e.g. shuffled labels, error ~0.9) cannot be committed, and the
-    regression's 0.03 tolerance then tells such a run from the reference."""
-    ref = json.loads((REFERENCES / "ch2" / "table2_2.json").read_text())
-    err = np.asarray(ref["variables"]["test_error"]["values"], dtype=float)
-    assert np.isfinite(err).all()
-    assert err.max() < CH2_SMOKE_MAX_ERROR < CH2_CHANCE_ERROR, err.ravel().tolist()
-    tol = ref["variables"]["test_error"]["atol"]
-    assert CH2_CHANCE_ERROR - err.max() > tol  # a chance-level run differs beyond tolerance
+def test_ch2_smoke_references_are_better_than_chance():
+    """Every cell of each committed smoke Tab. 2.2 learned (one-sided binomial test against
+    0.9, the error of a model that learned nothing): a reference rewritten from models that
+    learned nothing (e.g. shuffled labels) cannot be committed, and the regression's
+    tolerance then tells such a run from the reference."""
+    paths = [p for p in REFERENCE_FILES if p.parent.name == "ch2" and p.name == "table2_2.json"]
+    assert paths
+    n_test = int(load_config("smoke")["ch2"]["data"]["n_test"])
+    for path in paths:
+        ref = json.loads(path.read_text())
+        err = np.asarray(ref["variables"]["test_error"]["values"], dtype=float)
+        assert np.isfinite(err).all(), path
+        assert better_than_chance(err, n_test).all(), (path, err.ravel().tolist())
+        tol = ref["variables"]["test_error"]["atol"]
+        assert CHANCE_ERROR - err.max() > tol  # a chance-level run differs beyond tolerance
+
+
+def test_host_class_from_machine_and_flags():
+    assert regression.host_class("x86_64", {"avx2", "fma", "avx512f"}) == "avx512"
+    assert regression.host_class("AMD64", {"avx2", "fma"}) == "avx2"
+    assert regression.host_class("x86_64", {"sse4_2"}) == "x86-64"
+    assert regression.host_class("arm64", set()) == "arm64"
+    assert regression.CANONICAL_HOST == "avx2"
+
+
+def test_reference_of_a_host_class_replaces_the_canonical_one(tmp_path):
+    root = tmp_path / "smoke"
+    regression.write_references({"ch6/trot": _ds(), "ch3/table3_1": _ds()}, root)
+    regression.write_references({"ch6/trot": _ds(err=(0.5, 0.6))}, tmp_path / "smoke-avx512")
+    assert regression.reference_file(root, "ch6/trot", "avx512") == \
+        tmp_path / "smoke-avx512" / "ch6" / "trot.json"
+    assert regression.reference_file(root, "ch3/table3_1", "avx512") == \
+        root / "ch3" / "table3_1.json"
+    assert regression.reference_file(root, "ch6/trot", "avx2") == root / "ch6" / "trot.json"
+
+
+def test_update_on_another_host_class_writes_only_what_differs(tmp_path):
+    root = tmp_path / "smoke"
+    regression.write_references({"ch6/trot": _ds(), "ch3/table3_1": _ds()}, root)
+    canonical = (root / "ch6" / "trot.json").read_text()
+    lines = regression.update_references(
+        {"ch6/trot": _ds(err=(0.5, 0.6)), "ch3/table3_1": _ds(), "ch2/new": _ds()},
+        root, "avx512")
+    own = tmp_path / "smoke-avx512"
+    assert (own / "ch6" / "trot.json").exists() and not (own / "ch3").exists()
+    assert (root / "ch6" / "trot.json").read_text() == canonical  # canonical untouched
+    assert (root / "ch2" / "new.json").exists() and not (own / "ch2").exists()
+    assert any("ch2/new: new reference, recorded on a avx512 host" in x for x in lines)
+    # the difference goes away: the class's own reference is removed
+    lines = regression.update_references({"ch6/trot": _ds()}, root, "avx512")
+    assert not (own / "ch6" / "trot.json").exists()
+    assert any("matches the canonical reference" in x for x in lines)
+
+
+def test_update_on_the_canonical_class_rewrites_canonical_and_names_the_others(tmp_path):
+    root = tmp_path / "smoke"
+    regression.write_references({"ch6/trot": _ds()}, root)
+    regression.write_references({"ch6/trot": _ds(err=(0.5, 0.6))}, tmp_path / "smoke-avx512")
+    lines = regression.update_references({"ch6/trot": _ds(err=(0.3, 0.2))}, root, "avx2")
+    ref = json.loads((root / "ch6" / "trot.json").read_text())
+    assert ref["variables"]["test_error"]["values"] == [0.3, 0.2]
+    assert any("avx512 hosts" in x and "not rewritten" in x for x in lines)

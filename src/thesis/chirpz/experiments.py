@@ -107,13 +107,14 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
 
 
 #: Smoke-regression tolerance of the error rates (``thesis.regression``): XLA's convolutions
-#: round differently on different CPUs (AVX2 against AVX-512, also with ``jax.max_isa``),
-#: and a few test digits flip: up to 8 of the smoke profile's 300 test digits (0.027),
-#: 0.02 in validation error, while the training loss agrees to 4e-4 relative and stays the
-#: tight guard. The tolerance covers those flips and no more; it must stay below the spread
-#: of the error rates over the grid (``tests/core/test_regression.py``). The best epoch
-#: follows the validation curve and is compared exactly: a flipped best epoch selects other
-#: parameters, a changed result.
+#: round differently on different CPUs (also with ``jax.max_isa``), and a few test digits
+#: flip: error rates up to 0.027 apart between one AVX2 and one AVX-512 host, while the
+#: training loss agreed to 4e-4 relative and stayed the tight guard.
+#: The tolerance covers those flips and no more; it must stay below the spread of the error
+#: rates over the grid (``tests/core/test_regression.py``). Hosts whose training drifts
+#: further (another AVX-512 host: error rates 0.06, training loss 0.16 apart) have their
+#: own references. The best epoch follows the validation curve and is compared exactly: a
+#: flipped best epoch selects other parameters, a changed result.
 _COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
