@@ -15,11 +15,11 @@ difference is reported as a stale reference). Tolerances default to
 ``make update-reference`` rewrites the references from ``results/smoke`` on purpose and
 prints what changed.
 
-Hosts. The engine's chapters (ch3, ch4, ch7) and ch5 give the same numbers on every x86-64
-host with AVX2 (``jax.max_isa`` pins XLA's code, :mod:`thesis.cpupins` numpy's and
-OpenBLAS's). ch2's training and ch6's closed loops do not: XLA's convolutions and the
-closed loop's kernels still round differently on an AVX-512 host, and training and a
-chaotic closed loop carry a last-bit difference into other error rates and gait outcomes.
+Hosts. The engine's chapters (ch3, ch4, ch7) and ch5 gave the same smoke numbers on the
+AVX2 and the AVX-512 hosts measured (``jax.max_isa`` pins XLA's code, :mod:`thesis.cpupins`
+numpy's and OpenBLAS's). ch2's training and ch6's closed loops did not: some of XLA's
+kernels still round differently on the AVX-512 host, and training and a chaotic closed
+loop carry a last-bit difference into other error rates and gait outcomes.
 The references under ``tests/regression/<profile>/`` are those of :data:`CANONICAL_HOST`
 hosts; a result that differs on hosts of another class (:func:`host_class`) has its own
 reference under ``tests/regression/<profile>-<class>/``, which is used there instead
