@@ -28,6 +28,13 @@ from pathlib import Path
 NPY_ABOVE_AVX2 = "X86_V4 AVX512_ICL AVX512_SPR"
 #: OpenBLAS core whose kernels need AVX2 and FMA (``OPENBLAS_CORETYPE``).
 OPENBLAS_AVX2_CORE = "Haswell"
+#: The environment variables this module pins.
+VARIABLES = ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")
+
+
+def is_x86_64(machine: str | None = None) -> bool:
+    """Whether ``machine`` (default: this one, ``platform.machine()``) is x86-64."""
+    return (platform.machine() if machine is None else machine).lower() in ("x86_64", "amd64")
 
 
 def cpu_flags(cpuinfo: str | Path = "/proc/cpuinfo") -> set[str]:
@@ -50,8 +57,7 @@ def pins(machine: str | None = None, flags: set[str] | None = None) -> dict[str,
     ``flags`` (default: :func:`cpu_flags`) include AVX2 and FMA, whose instructions the
     Haswell kernels use; an older CPU keeps OpenBLAS's own choice.
     """
-    machine = platform.machine() if machine is None else machine
-    if machine.lower() not in ("x86_64", "amd64"):
+    if not is_x86_64(machine):
         return {}
     flags = cpu_flags() if flags is None else flags
     out = {"NPY_DISABLE_CPU_FEATURES": NPY_ABOVE_AVX2}
@@ -60,9 +66,13 @@ def pins(machine: str | None = None, flags: set[str] | None = None) -> dict[str,
     return out
 
 
+def in_force(environ=os.environ) -> dict[str, str]:
+    """The :data:`VARIABLES` set in ``environ`` and their values."""
+    return {k: environ[k] for k in VARIABLES if k in environ}
+
+
 def pin(environ=os.environ) -> dict[str, str]:
-    """Set :func:`pins` in ``environ`` where not set already; returns the values in force."""
+    """Set :func:`pins` in ``environ`` where not set already; returns :func:`in_force`."""
     for key, value in pins().items():
         environ.setdefault(key, value)
-    return {k: environ[k] for k in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")
-            if k in environ}
+    return in_force(environ)

@@ -7,8 +7,9 @@ must run before the first ``import jax`` of the process (the CLI does this).
 from __future__ import annotations
 
 import os
-import platform
 from pathlib import Path
+
+from thesis.cpupins import is_x86_64
 
 
 YNN_REDUCE_OFF = "--xla_cpu_experimental_ynn_fusion_type=-reduce"
@@ -45,8 +46,7 @@ def xla_flags(jax_config: dict, flags: str = "", machine: str | None = None) -> 
             "xla_cpu_experimental_ynn_fusion_type" in f for f in out):
         out.append(YNN_REDUCE_OFF)
     isa = jax_config.get("max_isa", "AVX2")
-    machine = platform.machine() if machine is None else machine
-    if isa and machine.lower() in ("x86_64", "amd64") and not any(
+    if isa and is_x86_64(machine) and not any(
             "xla_cpu_max_isa" in f for f in out):
         if isa not in MAX_ISAS:
             raise ValueError(f"jax.max_isa must be one of {list(MAX_ISAS)} or null, got {isa!r}")

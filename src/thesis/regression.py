@@ -36,6 +36,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from thesis.cpupins import cpu_flags, is_x86_64
+
 DEFAULT_RTOL = 1e-3
 DEFAULT_ATOL = 1e-6
 
@@ -160,11 +162,8 @@ def host_class(machine: str | None = None, flags: set[str] | None = None) -> str
 
     ``machine`` defaults to this one, ``flags`` to :func:`thesis.cpupins.cpu_flags`.
     """
-    from thesis.cpupins import cpu_flags
-
-    machine = (platform.machine() if machine is None else machine).lower()
-    if machine not in ("x86_64", "amd64"):
-        return machine
+    if not is_x86_64(machine):
+        return (platform.machine() if machine is None else machine).lower()
     flags = cpu_flags() if flags is None else flags
     if "avx512f" in flags:
         return "avx512"

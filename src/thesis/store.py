@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from thesis import provenance
+from thesis import cpupins, provenance
 from thesis.config import canonical_json, config_sha256
 
 ENGINE = "h5netcdf"
@@ -29,8 +29,8 @@ RESULTS_DIR = Path("results")
 PROVENANCE_ATTRS = (
     "thesis_ref", "profile", "experiment", "config_sha256", "config_json", "git_commit",
     "git_dirty", "seeds", "python_version", "jax_version", "jaxlib_version",
-    "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "cpu_pins", "started",
-    "wall_seconds", "departures",
+    "numpy_version", "xarray_version", "package_versions", "host", "xla_flags", "cpu_pins",
+    "started", "wall_seconds", "departures",
 )
 
 
@@ -121,8 +121,7 @@ def provenance_attrs(*, profile: str, experiment: str, config_slice: Any,
         # the ISA and reduction flags change the last bits of every XLA result
         "xla_flags": os.environ.get("XLA_FLAGS", ""),
         # numpy's and OpenBLAS's CPU code paths (thesis.cpupins) change ch5's last bits
-        "cpu_pins": canonical_json({k: os.environ.get(k, "") for k in
-                                    ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}),
+        "cpu_pins": canonical_json({k: os.environ.get(k, "") for k in cpupins.VARIABLES}),
         "started": started.astimezone(timezone.utc).isoformat(timespec="seconds"),
         "wall_seconds": float(wall_seconds),
         "Conventions": "CF-1.10",
