@@ -81,10 +81,10 @@ def test_same_push_slides_one_way_and_sticks_the_other():
     assert out["forward"] < -1.0 and abs(out["backward"]) < 0.1
 
 
-def test_equal_coefficients_equal_the_isotropic_pyramid(x64):
-    """Direction along x with mu_f = mu_b = mu: the friction rows are the isotropic
-    ones (t1 = x, t2 = y on a level floor), so the slide is the same; the directional
-    pyramid turns with the body, which yaws by round-off here (differences ~1e-7)."""
+def test_equal_coefficients_equal_the_isotropic_cone(x64):
+    """Direction along x with mu_f = mu_b = mu: the elliptic cone is the isotropic disc,
+    so the slide is the same; the directional basis turns with the body, which yaws by
+    round-off here (differences ~1e-7)."""
     vel = (2.0, 0.7, 0.0)
     m_iso, s_iso = _skin_block(None, (0.4, 0.4, 0.4), vel, jnp.float64)
     m_dir, s_dir = _skin_block((1.0, 0.0, 0.0), (0.4, 0.4, 0.4), vel, jnp.float64)

@@ -30,6 +30,21 @@ DEPARTURES: tuple[Departure, ...] = (
             "sequential updates do not; the original engine updated in parallel too.",
     ),
     Departure(
+        id="ch7.friction_cone", kind="choice", results=_ALL,
+        thesis="§7.2 gives contacts a friction coefficient mu without stating the friction "
+               "law; the original engine's code (FACTS §2.6) clips two tangential rows along "
+               "the world's x and y separately, each to mu times the normal impulse (a "
+               "friction pyramid).",
+        ours="An isotropic Coulomb cone: the two tangential impulses of a contact are "
+             "projected together onto the disc of radius mu times the normal impulse (an "
+             "ellipse in the grain frame of a directional material), with one effective "
+             "mass for both rows (thesis.physics.solver).",
+        why="The pyramid's friction depends on the direction a body faces in the world: "
+            "sqrt(2) mu at 45 degrees to the axes, and a path that bends towards an axis; "
+            "Coulomb's law, and the robots' turning and diagonal slips, have no preferred "
+            "direction (tests/physics/test_friction_cone.py).",
+    ),
+    Departure(
         id="ch7.servo_torque_bound", kind="choice", results=(*_ARMS, *_GAIT),
         thesis="§7.3.2 and §7.3.3 state servo torque limits without saying how the engine "
                "applies them.",

@@ -15,7 +15,7 @@ Mapping (engine -> MJCF) and the unavoidable differences:
 * visual boxes/spheres: geoms that do not collide (contype = conaffinity = 0); contact
   spheres: sphere geoms colliding only with the planes (contype 1 vs conaffinity 1 of
   the planes); extra sphere-sphere pairs as ``<pair>``. Friction: the pair material's
-  Coulomb coefficient, pyramidal cone (the engine's friction pyramid), condim 3.
+  Coulomb coefficient, elliptic cone (the engine's isotropic friction cone), condim 3.
 * contact softness: ``solref = (timeconst, zeta)`` with ``timeconst = 1 / (2 pi f zeta)``
   from the material's natural frequency f and damping ratio zeta, floored at 2 dt
   (MuJoCo's own stability floor). Restitution has no MuJoCo equivalent (0.01 here).
@@ -212,7 +212,7 @@ def model_to_mjcf(model, state, *, imu_bodies, imu: str = "attitude",
         f'<mujoco model="{m.name}">',
         '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
         f'  <option timestep="{dt:.9g}" gravity="{_f(g)}" integrator="implicitfast" '
-        f'cone="pyramidal" solver="Newton" iterations="{int(solver_iterations)}" '
+        f'cone="elliptic" solver="Newton" iterations="{int(solver_iterations)}" '
         f'ls_iterations="{int(ls_iterations)}"/>',
         "  <worldbody>", *world, *lines, "  </worldbody>",
         *(["  <contact>", *pairs, "  </contact>"] if pairs else []),

@@ -377,7 +377,8 @@ class Builder:
         lies along the direction projected onto the contact plane, bounded by the
         material's ``friction_forward`` times the normal force while the sphere slides
         forward along it and ``friction_backward`` while it slides backward; the second
-        (lateral) row by ``friction``. Without a direction the friction pyramid is the
+        (lateral) row by ``friction``, together an elliptic cone in the grain's frame
+        (``thesis.physics.solver.cone``). Without a direction the friction cone is the
         isotropic one (and the model compiles to the same program as one built without
         the option)."""
         if direction is not None:

@@ -27,7 +27,8 @@ import numpy as np
 from thesis.physics.math import mv, safe_norm, tangent_basis
 from thesis.physics.types import GeomType, Model
 
-__all__ = ["sphere_centres", "sphere_plane", "sphere_sphere", "directional_basis",
+__all__ = ["DIRECTIONAL_FADE", "sphere_centres", "sphere_plane", "sphere_sphere",
+           "directional_basis",
            "field_candidates", "field_contacts", "COLLISION_FUNCS", "detect"]
 
 
@@ -153,19 +154,32 @@ def field_contacts(m: Model, centres, pos):
                 rb=point - pos[m.csphere_body[query]], field_id=ids.astype(pos.dtype))
 
 
+#: Angle [rad] between a directional sphere's grain and the contact plane below which
+#: its forward and backward coefficients fade linearly (in the sine) into the lateral
+#: one: a grain normal to the surface has no forward or backward (every slide crosses
+#: it), so near there the choice must not hang on the sign of a tiny tilt. 10 deg keeps
+#: the fade out of the way of grains that lie along the surface (Puppy II's paws).
+DIRECTIONAL_FADE = 10.0 * 3.141592653589793 / 180.0
+
+
 def directional_basis(m: Model, rot, normal, t1, t2, dir_sphere, dir_sign):
     """Friction directions of contacts with a directional sphere (``Builder.
-    add_contact_sphere(..., direction=...)``).
+    add_contact_sphere(..., direction=...)``) and the weight of their grain.
 
     ``t1`` becomes the sphere's world direction projected onto the contact plane,
     normalised and signed so that a positive rate along it is the directional sphere
     sliding *forward* relative to the other surface (``-d`` when the sphere is body a);
-    ``t2 = n x t1``. Contacts without a direction (``dir_sign`` 0, static) and contacts
-    whose direction is (nearly) normal to the contact plane keep ``t1``/``t2``.
+    ``t2 = n x t1``. The weight is ``min(1, |projection| / sin(DIRECTIONAL_FADE))``: 1 for
+    a grain along the surface, falling to 0 as it turns normal to it, where the
+    constraint rows use the lateral coefficient in every direction (``constraint``), so
+    the arbitrary ``t1`` of a grain normal to the plane does not matter. Contacts without
+    a direction (``dir_sign`` 0, static) keep ``t1``/``t2`` with weight 0.
 
     Args:
         rot: (n_body + 1, 3, 3) extended rotations. normal, t1, t2: (P, 3).
         dir_sphere, dir_sign: static (P,) numpy arrays (``Model.pair_dir_*``).
+    Returns:
+        (t1, t2, weight (P,)).
     """
     sign = np.asarray(dir_sign, np.float64)
     d = mv(rot[m.csphere_body[dir_sphere]], m.csphere_direction[dir_sphere])
@@ -176,7 +190,9 @@ def directional_basis(m: Model, rot, normal, t1, t2, dir_sphere, dir_sign):
     u1 = tang / jnp.where(ok, length, 1.0)[:, None]
     u1 = jnp.where(ok[:, None], u1, t1)
     u2 = jnp.where(ok[:, None], jnp.cross(normal, u1), t2)
-    return u1, u2
+    weight = jnp.minimum(length / np.sin(DIRECTIONAL_FADE), 1.0) * jnp.asarray(
+        sign != 0, length.dtype)
+    return u1, u2, weight
 
 
 #: Pairwise contact functions keyed by (GeomType, GeomType) of (shape a, shape b).
@@ -191,7 +207,9 @@ def detect(m: Model, pos, rot):
 
     Returns a dict with (n_contact, ...) arrays ``normal`` (unit, from a to b), ``dist``
     [m], ``ra``/``rb`` contact point relative to the CoM of body a / b [m], ``t1``/``t2``
-    friction directions, and static ``body_a``/``body_b`` (numpy) body indices: the
+    friction directions, ``dir_weight`` (directional models only: the grain's weight of
+    :func:`directional_basis`, 0 for contacts without a direction), and static
+    ``body_a``/``body_b`` (numpy) body indices: the
     listed pairs (n_pair), then the sphere field's contacts (n_field_pair, with their
     ``field_id``, see :func:`field_contacts`).
     """
@@ -207,9 +225,11 @@ def _with_field(m: Model, pos, rot):
     fc["t1"], fc["t2"] = tangent_basis(fc["normal"])
     query = np.repeat(m.field_query, m.field_k)
     if np.any(m.field_dir_sign != 0):
-        fc["t1"], fc["t2"] = directional_basis(
+        fc["t1"], fc["t2"], fc["dir_weight"] = directional_basis(
             m, rot, fc["normal"], fc["t1"], fc["t2"], query,
             np.repeat(m.field_dir_sign, m.field_k))
+    elif m.directional:
+        fc["dir_weight"] = jnp.zeros(query.shape, pos.dtype)
     fc["body_a"] = np.full(query.shape, m.n_body, np.int32)
     fc["body_b"] = m.csphere_body[query].astype(np.int32)
     if m.n_pair == 0:
@@ -246,8 +266,10 @@ def _detect_pairs(m: Model, pos, rot):
         out = {k: v[inv] for k, v in out.items()}
     out["t1"], out["t2"] = tangent_basis(out["normal"])
     if np.any(m.pair_dir_sign != 0):  # static: isotropic models never trace this
-        out["t1"], out["t2"] = directional_basis(m, rot, out["normal"], out["t1"], out["t2"],
-                                                 m.pair_dir_sphere, m.pair_dir_sign)
+        out["t1"], out["t2"], out["dir_weight"] = directional_basis(
+            m, rot, out["normal"], out["t1"], out["t2"], m.pair_dir_sphere, m.pair_dir_sign)
+    elif m.directional:  # the directional spheres are in the field
+        out["dir_weight"] = jnp.zeros((m.n_pair,), dtype)
     world = m.n_body
     other = np.where(is_s, m.pair_other, 0)  # plane pairs: index unused
     sb1 = m.csphere_body[m.pair_sphere]

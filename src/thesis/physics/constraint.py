@@ -26,12 +26,19 @@ with impulse in [-inf, 0] (pull only) while d > slack and [0, 0] while slack, so
 tether applies exactly no impulse.
 Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
 restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
-friction rows in a pyramid ``|lambda_t| <= mu lambda_n`` and an optional torsional row
-``|lambda_tau| <= torsional * lambda_n``. A contact with a directional sphere
-(``Model.directional``) bounds its first friction row asymmetrically,
-``-mu_forward lambda_n <= lambda_t1 <= mu_backward lambda_n`` (``t1`` along the sphere's
-direction, ``collision.directional_basis``: a negative impulse resists sliding forward);
-the rows then carry a lower-bound coefficient ``fric_lo`` beside ``fric``.
+friction rows ``t1``, ``t2`` bounded *together* by a Coulomb cone
+``|(lambda_t1, lambda_t2)| <= mu lambda_n`` (the solver projects the pair, see
+``solver`` and ``rows["cone"]``; a per-row box would be a pyramid aligned with the
+world's axes on a level floor, ``sqrt(2)`` times too strong at 45 deg to them) and an
+optional torsional row ``|lambda_tau| <= torsional * lambda_n`` (a box). A contact with a
+directional sphere (``Model.directional``) has an elliptic cone in its grain's frame:
+``t1`` lies along the sphere's direction (``collision.directional_basis``: a negative
+impulse resists sliding forward) with the semi-axis ``mu_backward`` on the positive side
+and ``mu_forward`` on the negative side, ``t2`` across it with ``mu``; the rows then carry
+a lower-bound coefficient ``fric_lo`` beside ``fric``. Where the grain turns towards the
+contact normal, the forward and backward coefficients fade into the lateral one
+(``collision.directional_basis``'s weight): a grain normal to the surface has no forward
+or backward, every tangential slide crosses it.
 """
 
 from __future__ import annotations
@@ -73,7 +80,10 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         dict of (n_rows, ...) arrays ``ja``, ``jb``, ``bias``, ``gamma``, ``cfm_abs``,
         ``lo``, ``hi``, ``fric`` (friction-bound coefficient, applied to the impulse of
         row ``ref``), ``fric_lo`` (lower-bound coefficient; only in directional models),
-        and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric``.
+        and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric`` (rows bounded by a
+        box of ``fric`` times their normal impulse: torsion), ``cone`` (``(first, n)``:
+        the ``t1`` rows are ``first ... first + n - 1``, the ``t2`` rows the next ``n``,
+        their normals the ``n`` rows before ``first``; ``None`` without contacts).
     """
     q, qdot, dja, djb = dofs
     dt = m.dt
@@ -165,9 +175,11 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
             0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
         if m.directional:  # t1: -mu_forward <= lambda / lambda_n <= mu_backward
             mu = m.material_friction[mat]
-            dirn = np.asarray(m.contact_dir_sign != 0)
-            bounds = ((jnp.where(dirn, m.material_friction_backward[mat], mu),
-                       jnp.where(dirn, m.material_friction_forward[mat], mu)), (mu, mu))
+            # the grain's weight (0 where it is normal to the contact plane, 1 from
+            # DIRECTIONAL_FADE on; 0 for contacts without a direction)
+            w = contacts["dir_weight"]
+            bounds = ((mu + w * (m.material_friction_backward[mat] - mu),
+                       mu + w * (m.material_friction_forward[mat] - mu)), (mu, mu))
         else:  # isotropic: the program of a model without directional spheres
             bounds = ((None, None), (None, None))
         for t, (hi_c, lo_c) in zip((contacts["t1"], contacts["t2"]), bounds):
@@ -184,7 +196,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         e = np.zeros((0,), np.int32)
         return dict(ja=jnp.zeros((0, 6), dtype), jb=jnp.zeros((0, 6), dtype), bias=z,
                     gamma=z, cfm_abs=z, lo=z, hi=z, fric=z, body_a=e, body_b=e, ref=e,
-                    is_fric=np.zeros((0,), bool))
+                    is_fric=np.zeros((0,), bool), cone=None)
     cols = list(zip(*parts))
     out = {k: jnp.concatenate(v) for k, v in zip(
         ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric"), cols[:8])}
@@ -196,11 +208,12 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
     nr = out["bias"].shape[0]
     ref = np.arange(nr, dtype=np.int32)
     is_fric = np.zeros((nr,), bool)
+    cone = None
     if np_:
-        k = m.rows_per_contact
-        for r in range(1, k):
+        for r in range(1, m.rows_per_contact):
             s = contact_start + r * np_
             ref[s:s + np_] = contact_start + np.arange(np_)
-            is_fric[s:s + np_] = True
-    out["ref"], out["is_fric"] = ref, is_fric
+            is_fric[s:s + np_] = r == 3  # torsion: a box; t1, t2 (r = 1, 2): the cone
+        cone = (contact_start + np_, np_)
+    out["ref"], out["is_fric"], out["cone"] = ref, is_fric, cone
     return out

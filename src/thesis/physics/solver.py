@@ -13,6 +13,21 @@ spring, contact normal, friction, torsion) is a scalar block. All blocks are upd
 parallel from the same velocities, with a relaxation factor ``model.relaxation``, then
 projected on their bounds (friction bounds use the just-projected normal impulse), for a
 static ``model.solver_iterations`` sweeps (``lax.fori_loop``, reverse-differentiable).
+
+Friction cone. The two friction rows of a contact are projected together (:func:`cone`):
+their impulse pair is scaled radially onto the disc of radius ``mu lambda_n`` (the
+exact, nearest-point projection for isotropic Coulomb friction, as in projected
+Gauss-Seidel solvers and MuJoCo's elliptic cones), or, for a directional material, onto
+the ellipse with the semi-axes of its grain frame, scaled in that ellipse's own metric.
+At a fixed point of the sweeps the friction impulse is then anti-parallel to the slip
+(``lambda = c (lambda - m v)`` with ``c`` in (0, 1) forces ``lambda`` along ``-v``), with
+the magnitude the ellipse allows in that direction: the coaxial elliptic friction law,
+not the maximal-dissipation one, whose force is not opposite to the slip. Trade-off:
+the alternative, a pyramid turned to the current slip direction, keeps the per-row box
+but needs the slip direction, which is undefined and non-differentiable at rest; the
+radial scaling is a handful of elementwise ops per contact, continuous everywhere, and
+its square root is only taken where the pair lies outside the cone (``r > mu lambda_n
+>= 0``), so gradients stay finite at zero slip.
 Warm starting scales last step's impulses by ``model.warm_start``.
 
 Per iteration the work is: gather the velocities of each row's two bodies, one batched
@@ -51,7 +66,7 @@ import numpy as np
 from thesis.physics.math import inv3, inv_spd, mm, mmt
 from thesis.physics.types import Model
 
-__all__ = ["inverse_mass", "solve"]
+__all__ = ["cone", "inverse_mass", "solve"]
 
 
 def inverse_mass(m: Model, rot_ext):
@@ -80,7 +95,7 @@ _ROW_KEYS = ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric", "fric_l
 _BLOCK_KEYS = ("ja", "jb", "bias", "gamma")
 
 
-def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
+def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows, cone_rows=None):
     """Everything constant within the step's sweeps.
 
     For one robot, or for a batch with the robots on trailing axes (every array then has
@@ -88,7 +103,9 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
 
     Args:
         mask: (n_joint, 6) static 0/1 rows of each joint block. idx: static body indices
-            ``ba, bb, ra, rb`` of the blocks and rows. Others as in :func:`solve`.
+            ``ba, bb, ra, rb`` of the blocks and rows. cone_rows: static ``(first, n)``
+            of the friction rows (``constraint.scalar_rows``' ``cone``) or None. Others
+            as in :func:`solve`.
     Returns:
         dict of arrays with a leading row axis: ``v0``; joint blocks ``mask`` (the static
         mask with the batch axes), ``ja``, ``jb``,
@@ -114,16 +131,49 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows):
     wrb = _apply_minv(rows["jb"], inv_m[rb], inv_iw[rb], 1)
     d = jnp.sum(rows["ja"] * wra, axis=1) + jnp.sum(rows["jb"] * wrb, axis=1)
     cfm = rows["gamma"] * d + rows["cfm_abs"]
+    m_c = 1.0 / jnp.maximum(d + cfm, 1e-12)
+    if cone_rows is not None:
+        # one effective mass for both friction rows of a contact (the mean of their
+        # diagonals): with a different one per row the fixed point of the projected
+        # update, lambda = s (lambda - diag(m1, m2) v), turns the friction away from the
+        # slip v towards the row of larger mass; with a common one it opposes the slip
+        first, n = cone_rows
+        t1, t2 = slice(first, first + n), slice(first + n, first + 2 * n)
+        pair = 2.0 / jnp.maximum(d[t1] + cfm[t1] + d[t2] + cfm[t2], 1e-12)
+        m_c = jnp.concatenate([m_c[:first], pair, pair, m_c[first + 2 * n:]])
     out = dict(v0=v0, mask=mask, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
                bias_j=blocks["bias"], cfm_j=cfm_blk, rja=rows["ja"], rjb=rows["jb"],
-               wra=wra, wrb=wrb, m_c=1.0 / jnp.maximum(d + cfm, 1e-12), cfm=cfm,
+               wra=wra, wrb=wrb, m_c=m_c, cfm=cfm,
                bias=rows["bias"], lo=rows["lo"], hi=rows["hi"], fric=rows["fric"])
     if "fric_lo" in rows:  # directional friction (static)
         out["fric_lo"] = rows["fric_lo"]
     return out
 
 
-def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
+def cone(a, b, lam_n, mu1, mu2):
+    """Project tangential impulses onto the friction cone of their normal impulse.
+
+    ``(a / mu1)^2 + (b / mu2)^2 <= lam_n^2`` by radial scaling of the pair (module
+    docstring, "Friction cone"); ``mu1 == mu2`` is the isotropic disc
+    ``|(a, b)| <= mu lambda_n``. A zero coefficient forces its impulse to zero.
+
+    Args:
+        a, b: impulses of the contacts' ``t1`` and ``t2`` rows [N s] (n, *B).
+        lam_n: their normal impulses, >= 0 (n, *B). mu1, mu2: semi-axes along ``t1``
+            and ``t2`` (n, *B), >= 0.
+    Returns:
+        (a, b) projected.
+    """
+    pos1, pos2 = mu1 > 0, mu2 > 0
+    u = jnp.where(pos1, a / jnp.where(pos1, mu1, 1.0), 0.0)
+    w = jnp.where(pos2, b / jnp.where(pos2, mu2, 1.0), 0.0)
+    r2 = u * u + w * w
+    over = r2 > lam_n * lam_n  # implies r2 > 0: the root below never sees zero
+    scale = jnp.where(over, lam_n / jnp.sqrt(jnp.where(over, r2, 1.0)), 1.0)
+    return jnp.where(pos1, a * scale, 0.0), jnp.where(pos2, b * scale, 0.0)
+
+
+def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
     """The static number of block-Jacobi sweeps and the final velocities.
 
     Written for arrays with a leading row axis and any number of *trailing* batch axes
@@ -132,13 +182,15 @@ def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
     contiguous axis, where XLA's loops vectorise over robots.
 
     Args:
-        idx: static ``ba, bb, ra, rb``; ref, is_fric: static friction bookkeeping.
+        idx: static ``ba, bb, ra, rb``; fric_idx: static friction bookkeeping
+            ``(ref, is_fric, cone)`` of ``constraint.scalar_rows``.
         relax: relaxation factor (scalar or (*B,)). c: dict of :func:`_prepare`.
         lam_joint0 (n_joint, 6, *B), lam_row0 (n_rows, *B): warm start.
     Returns:
         (v (n_body + 1, 6, *B), lam_joint, lam_row).
     """
     ba, bb, ra, rb = idx
+    ref, is_fric, cone_rows = fric_idx
     v0 = c["v0"]
     nb1, dtype, extra = v0.shape[0], v0.dtype, v0.ndim - 2
     mask = c["mask"]
@@ -159,11 +211,20 @@ def _sweeps(m: Model, idx, ref, is_fric, relax, c, lam_joint0, lam_row0):
 
     def project(lr):
         lr = jnp.clip(lr, c["lo"], c["hi"])
-        bound = c["fric"] * lr[ref]
-        # directional friction: [-fric_lo, fric] x the normal impulse (static branch)
-        lower = -c["fric_lo"] * lr[ref] if "fric_lo" in c else -bound
-        return jnp.where(is_fric.reshape(is_fric.shape + (1,) * extra),
-                         jnp.clip(lr, lower, bound), lr)
+        if np.any(is_fric):  # torsion: a box of fric x the normal impulse (static branch)
+            bound = c["fric"] * lr[ref]
+            lr = jnp.where(is_fric.reshape(is_fric.shape + (1,) * extra),
+                           jnp.clip(lr, -bound, bound), lr)
+        if cone_rows is None:
+            return lr
+        first, n = cone_rows
+        t1, t2 = slice(first, first + n), slice(first + n, first + 2 * n)
+        a, b = lr[t1], lr[t2]
+        mu1 = c["fric"][t1]
+        if "fric_lo" in c:  # directional: the grain's forward / backward semi-axis
+            mu1 = jnp.where(a > 0, mu1, c["fric_lo"][t1])
+        a, b = cone(a, b, lr[first - n:first], mu1, c["fric"][t2])
+        return jnp.concatenate([lr[:first], a, b, lr[first + 2 * n:]])
 
     def sweep(_, carry):
         lj, lr = carry
@@ -197,21 +258,21 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
     (:func:`_solve_batch_last`); otherwise it is the plain single-robot solver.
     """
     idx = (blocks["body_a"], blocks["body_b"], rows["body_a"], rows["body_b"])
-    ref, is_fric = rows["ref"], rows["is_fric"]
+    fric_idx = (rows["ref"], rows["is_fric"], rows["cone"])
     blk = {k: blocks[k] for k in _BLOCK_KEYS}
     row = {k: rows[k] for k in _ROW_KEYS if k in rows}
 
     def single(relax, v0_, inv_m_, inv_iw_, blk_, row_, lj0, lr0):
-        c = _prepare(m.joint_row_mask, idx, v0_, inv_m_, inv_iw_, blk_, row_)
-        return _sweeps(m, idx, ref, is_fric, relax, c, lj0, lr0)
+        c = _prepare(m.joint_row_mask, idx, v0_, inv_m_, inv_iw_, blk_, row_, fric_idx[2])
+        return _sweeps(m, idx, fric_idx, relax, c, lj0, lr0)
 
     args = (m.relaxation, v0, inv_m, inv_iw, blk, row, lam_joint0, lam_row0)
     if not m.batched:
         return single(*args)
-    return _batched_solver(m, idx, ref, is_fric, single)(*args)
+    return _batched_solver(m, idx, fric_idx, single)(*args)
 
 
-def _batched_solver(m: Model, idx, ref, is_fric, single):
+def _batched_solver(m: Model, idx, fric_idx, single):
     """``single`` with the robots-last ``jax.vmap`` rule, in value and in gradient.
 
     ``jax.custom_batching.custom_vmap`` gives the rule (:func:`_solve_batch_last`), but
@@ -225,7 +286,7 @@ def _batched_solver(m: Model, idx, ref, is_fric, single):
     """
     def rule(fn):
         return lambda size, in_batched, *a: _solve_batch_last(
-            m, idx, ref, is_fric, size, in_batched, a, fn)
+            m, idx, fric_idx, size, in_batched, a, fn)
 
     value = jax.custom_batching.custom_vmap(single)
     value.def_vmap(rule(None))
@@ -241,7 +302,7 @@ def _batched_solver(m: Model, idx, ref, is_fric, single):
     return f
 
 
-def _solve_batch_last(m: Model, idx, ref, is_fric, size, in_batched, args, mode=None):
+def _solve_batch_last(m: Model, idx, fric_idx, size, in_batched, args, mode=None):
     """``jax.vmap`` rule of the batched solver: the robots moved to the last axis.
 
     ``args`` are :func:`solve`'s traced inputs (robots first where ``in_batched``; the
@@ -260,8 +321,8 @@ def _solve_batch_last(m: Model, idx, ref, is_fric, size, in_batched, args, mode=
     def solve_last(*a):
         """The batch's solve on robots-first inputs; outputs robots-last."""
         relax, v0, inv_m, inv_iw, blk, row, lj0, lr0 = jax.tree.map(last, a)
-        c = _prepare(m.joint_row_mask, idx, v0, inv_m, inv_iw, blk, row)
-        return _sweeps(m, idx, ref, is_fric, relax, c, lj0, lr0)
+        c = _prepare(m.joint_row_mask, idx, v0, inv_m, inv_iw, blk, row, fric_idx[2])
+        return _sweeps(m, idx, fric_idx, relax, c, lj0, lr0)
 
     if mode is None:
         args = jax.tree.map(front, tuple(args), tuple(in_batched))

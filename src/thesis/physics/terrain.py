@@ -12,7 +12,9 @@ Slopes: :func:`incline` rotates gravity instead of the floor. For one infinite p
 two are the same physics seen in different frames: a robot on a floor tilted by theta
 under vertical gravity moves, relative to that floor, exactly as a robot on the level
 floor z = 0 under gravity tilted by theta (rotate the whole scene by -theta: contacts,
-joints and inertias are frame-invariant, only the gravity vector turns). The floor, the
+joints and inertias are frame-invariant, only the gravity vector turns; the friction cone
+is the same in every tangential direction, so a slope's heading does not change how a
+body slides on it, ``tests/physics/test_friction_cone.py``). The floor, the
 contact spheres, the sphere fields and the fall criteria in world z keep their meaning;
 the robot's heading along +x climbs. What changes is the meaning of world z: it is the
 slope's normal, not the vertical (an IMU's ``imu_up`` reads the slope's normal, the
