@@ -77,6 +77,12 @@ def test_flat_run_keeps_every_particle(tiny):
     # the evaluated particles respect Tab. 4.1's dependent ranges
     x = flat["position"].values.reshape(-1, 12)
     np.testing.assert_allclose(TR.FAMILY.project(x), x, atol=1e-9)
+    # the assistant's resets (departure ch4.fall_reset), counted per generation; the run's
+    # first particle entered from its own gait and is never set back
+    assert flat["reset_count"].dims == ("seed", "generation")
+    np.testing.assert_array_equal(flat["reset_count"], flat["reset"].sum("particle"))
+    assert set(np.unique(flat["reset"].values)) <= {0.0, 1.0}
+    np.testing.assert_array_equal(flat["reset"].values[:, 0, 0], 0.0)
 
 
 def test_transfer_starts_at_the_flat_runs_best_particles(tiny):
@@ -94,6 +100,8 @@ def test_transfer_starts_at_the_flat_runs_best_particles(tiny):
         v_rand = soft["velocity0"].sel(seed=s, condition="compliant", transfer=0).values
         assert np.abs(v_rand).max() > 10 * imp.max()  # random swarms get full-range velocities
     assert soft["reeval_speed"].dims == ("seed", "condition", "transfer", "rank", "repeat")
+    assert soft["reset_count"].dims == ("seed", "condition", "transfer", "generation")
+    np.testing.assert_array_equal(soft["reset_count"], soft["reset"].sum("particle"))
     gen = soft["best_generation"].sel(rank=2).values
     assert np.all(gen >= 1)  # rank 2: the best after the first generation
 
@@ -103,6 +111,8 @@ def test_tether_comparison(tiny):
     ds = TR.tether(ctx("ch4/tether", {"flat": inputs["flat"]}))
     check_result(ds)
     assert ds["fall_fraction"].dims == ("seed", "tether", "generation")
+    assert ds["reset_count"].dims == ("seed", "tether", "generation")
+    np.testing.assert_array_equal(ds["reset"].sel(tether=1).values, flat["reset"].values)
     np.testing.assert_array_equal(ds["fallen"].sel(tether=1).values, flat["fallen"].values)
     assert set(np.unique(ds["fallen"].values)) <= {0.0, 1.0}
     # the thread's load: the flat run's with it, exactly none without it
@@ -126,6 +136,8 @@ def test_derived_artifacts_layouts(tiny):
     assert f["score"].dims == ("seed", "transfer", "generation", "particle")
     assert f["p_greater"].dims == ("seed", "generation")
     assert np.all((f["a12"].values >= 0) & (f["a12"].values <= 1))
+    np.testing.assert_array_equal(f["reset_count"].values, soft["reset_count"].sel(
+        condition="compliant").transpose("seed", "transfer", "generation").values)
     ss = TA.fig4_10(ctx("ch4/fig4_10", {"transfer_compliant": inputs["transfer_compliant"]}))
     check_result(ss)
     assert list(ss["condition"].values) == ["compliant"]

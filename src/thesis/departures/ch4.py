@@ -98,6 +98,28 @@ DEPARTURES: tuple[Departure, ...] = (
             "tests on the thesis's speed ordering for every gait that walks.",
     ),
     Departure(
+        id="ch4.fall_reset", kind="choice", results=ALL,
+        config=("ch4.protocol.settle", "ch4.protocol.fall_height"),
+        thesis="§4.5: \"We test each gait for 4 seconds at a time, and have a smooth "
+               "transition between these gaits for 2 seconds\" and \"an assistant sits next "
+               "to the track in order to intervene when the setup's safety is jeopardized by "
+               "a very unstable gait\"; what happened to the evaluation of a gait the robot "
+               "entered lying down is not stated.",
+        ours="At the start of each window, a robot that is down (trunk below fall_height or "
+             "tilted beyond 60 degrees) and entered from another gait is set back on its "
+             "feet at its start pose, at rest; it eases into the gait under test again for "
+             "settle seconds and is measured over the rest of the window. It counts as "
+             "fallen only if it falls again; every evaluation records whether it was set "
+             "back, and the runs count them per generation (reset_count). One reset per "
+             "evaluation; a run's first particle and the re-evaluations, which enter from "
+             "their own gait, are never reset.",
+        why="A fall in the previous particle's gait or in the transition is not the gait "
+            "under test's: charged to it, it made the next particle's fall more likely "
+            "after a fall than after none. The robot starts in its build pose, so it needs "
+            "the same easing as at the start of every evaluation.",
+        paper_keys=("sec4.5/evaluation_seconds", "sec4.5/transition_seconds"),
+    ),
+    Departure(
         id="ch4.transfer_impulse", kind="choice", results=TARGETS,
         config=("ch4.transfer.impulse_divisor",),
         thesis="§4.4: the transferred particles get a small impulse in a random direction, "

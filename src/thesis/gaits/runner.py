@@ -15,6 +15,11 @@ another; here each particle is simulated from standing):
   particle in evaluation order, as on the treadmill) to the gait under test;
 * ``t_run`` seconds of the gait under test: the evaluation window.
 
+Optionally (chapter 4, ``reset_at`` of :func:`simulate`) the treadmill's assistant
+(§4.5) stands by at the window's start: a robot that is down then, having entered from
+another gait, is set back on its feet at its start pose and eases into the gait under
+test again (:func:`assist`, :func:`restart_commands`).
+
 Fitness (eq. 3.3): ``distance - sigma_x / 150 - sigma_y / 300`` with the distance walked
 forward in the window [m] and sigma_x, sigma_y the standard deviations [pixels] of the
 LED's position in the onboard camera's 1024 x 768 image, sampled every 10 ms (the Wii
@@ -92,8 +97,71 @@ def _compiled(command_fn, n_steps: int, stride: int, chunk=1):
     return jax.jit(run)
 
 
+def is_down(model, state, fall_height):
+    """() bool: one robot's trunk centre lower than ``fall_height`` [m] or its trunk
+    tilted more than 60 degrees (up-vector z < 0.5): the fall criterion of
+    :func:`speed_terms`, on a single (unbatched) engine ``State``. A non-finite pose
+    is not down (its comparisons are false); :func:`exploded` catches it."""
+    trunk = O.trunk_index(model)
+    return (state.pos[trunk, 2] < fall_height) | (state.rot[trunk, 2, 2] < 0.5)
+
+
+def assist(model, state, start, fall_height, eligible):
+    """The treadmill assistant (§4.5) at the start of a window, for one robot.
+
+    A robot that ``is_down`` and is ``eligible`` (it entered the window from another
+    gait) is set back on its feet: its whole state becomes ``start`` (the evaluation's
+    start pose, at rest), keeping the clock. Branch-free (``jnp.where`` on every leaf),
+    so it vmaps over robots; a robot left alone keeps its state bit for bit.
+
+    Args:
+        state, start: single engine ``State`` s (same tree, no batch axis).
+        fall_height: [m], see :func:`is_down`.
+        eligible: () bool.
+
+    Returns:
+        (state after the check, () bool: whether the robot was set back).
+    """
+    reset = is_down(model, state, fall_height) & eligible
+    start = start.replace(time=state.time)  # the clock runs on through the reset
+    return jax.tree.map(lambda now, new: jnp.where(reset, new, now), state, start), reset
+
+
+@functools.lru_cache(maxsize=32)
+def _compiled_assisted(command_fn, n_steps: int, stride: int, reset_steps: int, chunk=1):
+    """jit of a batched rollout like :func:`_compiled`, split at step ``reset_steps``
+    (a multiple of ``stride``) where :func:`assist` checks every robot; after the check
+    the controller memory carries ``restart`` (B,): the command time of the reset [s],
+    inf for a robot left alone (see :func:`restart_commands`). Returns (pos, rot,
+    reset (B,) bool). Cached; one compiled program per shape, as :func:`_compiled`."""
+
+    def controller(_, sens, memory, t):
+        cmd = command_fn(memory, command_time(t), sens)
+        return O.commands_to_action(cmd).astype(sens["body_pos"].dtype), memory
+
+    def segment(model, states0, memory, n):
+        final, traj = batched_rollout(model, states0, controller, None, n, memory0=memory,
+                                      batch_memory=True, record=("body_pos", "body_rot"),
+                                      chunk=chunk)
+        sample = slice(stride - 1, None, stride)  # the pose at the end of each command period
+        return final, traj["body_pos"][:, sample], traj["body_rot"][:, sample]
+
+    def run(model, states0, memory, fall_height, eligible):
+        mid, pos0, rot0 = segment(model, states0, memory, reset_steps)
+        check = functools.partial(assist, model, fall_height=fall_height)
+        after, reset = jax.vmap(check)(mid, states0, eligible=eligible)
+        restart = jnp.where(reset, command_time(mid.time), jnp.inf).astype(mid.time.dtype)
+        _, pos1, rot1 = segment(model, after, dict(memory, restart=restart),
+                                n_steps - reset_steps)
+        return (jnp.concatenate([pos0, pos1], axis=1), jnp.concatenate([rot0, rot1], axis=1),
+                reset)
+
+    return jax.jit(run)
+
+
 def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
-             heading=None, chunk=1, forward=None):
+             heading=None, chunk=1, forward=None, reset_at=None, fall_height=None,
+             may_reset=None):
     """Simulate a batch of robots under ``command_fn``.
 
     Args:
@@ -108,23 +176,45 @@ def simulate(model, state0, command_fn, memory, duration: float, lateral=None,
         chunk: robots simulated together per device (``batched_rollout``); ``None``
             vmaps the whole batch, faster for large batches; the default 1 runs robots
             one after the other (chapter 3's results are bound to it bit for bit).
+        reset_at: optional time [s] (rounded to the 10-ms command grid, inside the run)
+            of the assistant's check (:func:`assist`): a robot that is down then (trunk
+            below ``fall_height`` [m] or tilted beyond 60 degrees) and ``may_reset``
+            ((B,) bool, default all) is set back to its start pose at rest, and
+            ``command_fn`` must then follow the memory's ``restart`` (see
+            :func:`gait_command_fn`). ``None``: no check, the plain rollout.
 
     Returns:
         dict with ``pos`` (B, K, n_body, 3) and ``rot`` (B, K, n_body, 3, 3) body poses
-        sampled every command period (K = duration / 10 ms), ``t`` (K,) [s], and
-        ``wall`` the wall time of the call [s] and ``robot_seconds`` = B * duration.
+        sampled every command period (K = duration / 10 ms), ``t`` (K,) [s], ``reset``
+        (B,) bool (set back at ``reset_at``; all False without it), ``reset_at`` (the
+        check's time on the command grid [s], or None), and ``wall`` the wall time of
+        the call [s] and ``robot_seconds`` = B * duration.
     """
     batch = jax.tree.leaves(memory)[0].shape[0]
     stride = int(round(COMMAND_PERIOD / float(model.dt)))
     n_cmd = int(round(duration / COMMAND_PERIOD))
-    fn = _compiled(command_fn, n_cmd * stride, stride, chunk)
+    states0 = batch_states(state0, batch, lateral, heading, forward)
     t0 = time.perf_counter()
-    pos, rot = fn(model, batch_states(state0, batch, lateral, heading, forward), memory)
+    if reset_at is None:
+        pos, rot = _compiled(command_fn, n_cmd * stride, stride, chunk)(model, states0, memory)
+        reset = np.zeros(batch, bool)
+    else:
+        k = int(round(reset_at / COMMAND_PERIOD))
+        if not 0 < k < n_cmd:
+            raise ValueError(f"reset_at = {reset_at} s is not inside the run of {duration} s")
+        fn = _compiled_assisted(command_fn, n_cmd * stride, stride, k * stride, chunk)
+        eligible = np.ones(batch, bool) if may_reset is None else np.asarray(may_reset, bool)
+        dtype = states0.pos.dtype
+        pos, rot, reset = fn(model, states0, memory, jnp.asarray(fall_height, dtype),
+                             jnp.asarray(eligible))
+        reset = np.asarray(reset)
     pos = np.asarray(pos)
     wall = time.perf_counter() - t0
     rot = np.asarray(rot)
     t = (np.arange(n_cmd) + 1) * COMMAND_PERIOD
-    return dict(pos=pos, rot=rot, t=t, wall=wall, robot_seconds=batch * duration)
+    at = None if reset_at is None else k * COMMAND_PERIOD
+    return dict(pos=pos, rot=rot, t=t, reset=reset, reset_at=at, wall=wall,
+                robot_seconds=batch * duration)
 
 
 # ------------------------------------------------------------------- gait commands
@@ -149,14 +239,35 @@ def protocol_commands(family, p_from, p_to, t, settle, t_transition):
     return jnp.where(t < settle, easing, gait)
 
 
+def restart_commands(family, p_to, t, restart, settle, t_transition, cmd):
+    """(12,) commands [rad] of a robot the assistant set back on its feet at ``restart``.
+
+    From ``restart`` [s] on, the protocol starts over with the gait under test as its own
+    predecessor: ``settle`` seconds easing from the build pose (the start pose it was set
+    back in) into ``p_to``'s pose at phase 0, then ``p_to``'s gait (the protocol of a
+    re-evaluation from standstill). Before ``restart`` (inf: never) the protocol's
+    ``cmd`` are returned unchanged.
+    """
+    again = t >= restart
+    tau = jnp.where(again, t - restart, 0.0)  # inf - inf never reaches the commands
+    own = protocol_commands(family, p_to, p_to, tau, settle, t_transition)
+    return jnp.where(again, own, cmd)
+
+
 @functools.lru_cache(maxsize=32)
 def gait_command_fn(family, settle: float, t_transition: float):
     """Command function of the evaluation protocol for a gait ``family``: memory holds
-    ``p_from`` and ``p_to`` (P,) per robot (see :func:`protocol_commands`)."""
+    ``p_from`` and ``p_to`` (P,) per robot (see :func:`protocol_commands`) and, after
+    the assistant's check of :func:`simulate` (``reset_at``), ``restart`` () [s] (see
+    :func:`restart_commands`)."""
 
     def fn(mem, t, sens):
-        return protocol_commands(family, mem["p_from"], mem["p_to"], t, settle,
-                                 t_transition)
+        cmd = protocol_commands(family, mem["p_from"], mem["p_to"], t, settle,
+                                t_transition)
+        if "restart" in mem:  # the memory's structure is static under jit
+            cmd = restart_commands(family, mem["p_to"], t, mem["restart"], settle,
+                                   t_transition, cmd)
+        return cmd
 
     return fn
 
@@ -322,14 +433,28 @@ EXPLODED_SPEED = 10.0
 
 def exploded(model, sim):
     """(B,) True where a robot's simulation went non-finite or unphysical (trunk above
-    EXPLODED_HEIGHT or faster than EXPLODED_SPEED between two command samples)."""
+    EXPLODED_HEIGHT or faster than EXPLODED_SPEED between two command samples; the jump
+    of a robot set back to its start pose, ``sim["reset"]`` at ``sim["reset_at"]``, is
+    not a speed)."""
     tp = sim["pos"][:, :, O.trunk_index(model)]
     finite = np.isfinite(sim["pos"]).all(axis=(1, 2, 3))
     with np.errstate(invalid="ignore"):
         v = np.linalg.norm(np.diff(tp, axis=1), axis=-1) / COMMAND_PERIOD
+        v = np.where(_reset_jump(sim), 0.0, v)
         high = np.nanmax(tp[..., 2], axis=1) > EXPLODED_HEIGHT
         fast = np.nanmax(v, axis=1) > EXPLODED_SPEED
     return ~finite | high | fast
+
+
+def _reset_jump(sim) -> np.ndarray:
+    """(B, K - 1) bool: the step between two samples across which :func:`simulate` set a
+    robot back to its start pose (none without ``reset_at``)."""
+    B, K = sim["pos"].shape[:2]
+    jump = np.zeros((B, K - 1), bool)
+    if sim.get("reset_at") is not None:
+        k = int(np.argmin(np.abs(sim["t"] - sim["reset_at"])))  # the sample at the check
+        jump[:, k] = np.asarray(sim["reset"], bool)
+    return jump
 
 
 def fit_circle(xy):

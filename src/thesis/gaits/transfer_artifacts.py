@@ -14,7 +14,8 @@ Fig. 4.3 (inverse kinematics only).
   without transfer (slopes / softer front legs / pebbles), the per-generation Wilcoxon
   rank-sum p-values (transfer greater, and two-sided), the Vargha-Delaney A and the
   Fisher combination per seed (§4.6, :func:`thesis.optim.transfer.compare_generations`),
-  and the fraction of fallen evaluations per generation.
+  the fraction of fallen evaluations and the number of robots set back on their feet at
+  the start of their window per generation.
 * ``fig4_6``: the best particles of all optimisations per inclination (§4.6.1: flat from
   the flat run, each slope from both of its arms), their means and covariances.
 * ``fig4_9``: step length a and depth x0 of every particle on the steepest slope, with
@@ -51,6 +52,8 @@ def _runs(ctx) -> xr.Dataset:
     parts = [_load(ctx, n) for n in names]
     keep = ["position", "score", "speed", "fallen", "best_position", "best_generation",
             "best_particle", "reeval_speed", "reeval_score", "reeval_fallen", "reeval_taut"]
+    if all("reset" in p for p in parts):  # runs written before the resets lack it
+        keep.append("reset")
     return xr.concat([p[keep] for p in parts], dim="condition")
 
 
@@ -194,6 +197,17 @@ def table4_4(ctx) -> xr.Dataset:
     return ds
 
 
+def _reset_count(sub: xr.Dataset, dims) -> dict:
+    """``reset_count`` (dims without 'particle'): robots set back on their feet at the
+    start of their window per generation (departure ch4.fall_reset); empty for runs
+    written before the resets."""
+    if "reset" not in sub:
+        return {}
+    return dict(reset_count=(dims[:3], sub["reset"].transpose(*dims).sum("particle").values,
+                             dict(units="1", long_name="evaluations of the generation whose "
+                                  "robot was set back on its feet at the start of its window")))
+
+
 def generation_scores(runs: xr.Dataset, cond: str, thesis_ref: str) -> xr.Dataset:
     """Per-generation scores of both arms of one condition and their comparison (§4.6)."""
     sub = runs.sel(condition=cond)
@@ -219,6 +233,7 @@ def generation_scores(runs: xr.Dataset, cond: str, thesis_ref: str) -> xr.Datase
                  units="1", long_name="1 if the robot fell")),
              fall_fraction=(dims[:3], sub["fallen"].transpose(*dims).mean("particle").values,
                             dict(units="1", long_name="fraction of fallen evaluations")),
+             **_reset_count(sub, dims),
              p_greater=(("seed", "generation"), out["p_greater"], dict(
                  units="1", long_name="Wilcoxon rank-sum p, transfer scores greater "
                                       "(one-sided)")),

@@ -20,6 +20,16 @@ fraction of the window it stayed up, below every robot that stays up (no upright
 of this size reaches 1 m/s backwards), so PSO and the rank tests of §4.6 see falls as
 the worst gaits, later falls better than earlier ones.
 
+Falls are charged to the gait that fell (departure ``ch4.fall_reset``): the thesis tests
+a gait over its window only, so a robot that is down when the window begins, having
+entered from another gait (it fell while easing into, or walking, the previous particle's
+gait, or in the transition), is set back on its feet at its start pose, as the assistant
+did, eases into the gait under test again (``settle`` seconds) and is measured over the
+rest of the window (:func:`window_starts`). Each evaluation records ``reset``; a robot
+that falls again, in the gait under test, counts as fallen. An evaluation that entered
+from its own gait (a run's first particle, the re-evaluations) is never reset: what it
+walked before its window was the gait under test.
+
 All robots of a generation, every seed and arm, run as batched simulations of a fixed
 size (``seeds x particles``; smaller batches are padded and the padding discarded), so
 one compiled rollout serves the whole chapter (:func:`evaluate_particles`). A robot whose
@@ -68,6 +78,16 @@ def protocol_times(cfg) -> tuple[float, float, float]:
     t0 = float(pr["settle"]) + float(pr["transition_seconds"])
     t1 = t0 + float(pr["run_seconds"])
     return t0, t1, t1
+
+
+def window_starts(cfg, reset) -> np.ndarray:
+    """(B,) start of each evaluation's window [s]: :func:`protocol_times`'s, or for a robot
+    set back on its feet there (``reset`` (B,) bool) ``settle`` seconds later, once it has
+    eased into the gait under test again (its window is that much shorter; at least one
+    command period, so that its first pose is one after the reset)."""
+    t0 = protocol_times(cfg)[0]
+    ease = max(float(cfg["protocol"]["settle"]), R.COMMAND_PERIOD)
+    return np.where(np.asarray(reset, bool), t0 + ease, t0)
 
 
 def score_of(terms) -> np.ndarray:
@@ -142,14 +162,21 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
 
     Returns:
         dict of (n,) arrays: :func:`thesis.gaits.runner.speed_terms`,
-        :func:`thesis.gaits.conditions.thread_load` and ``score``.
+        :func:`thesis.gaits.conditions.thread_load` (both over each robot's window,
+        :func:`window_starts`), ``reset`` (bool: set back on its feet at the window's
+        start, see the module docstring) and ``score``.
     """
     p_from = np.asarray(p_from, np.float64)
     p_to = np.asarray(p_to, np.float64)
     n = len(p_to)
     settle = float(cfg["protocol"]["settle"])
     t_tr = float(cfg["protocol"]["transition_seconds"])
+    fall_height = float(cfg["protocol"]["fall_height"])
     t0, t1, dur = protocol_times(cfg)
+    if t1 - t0 <= max(settle, R.COMMAND_PERIOD):
+        raise ValueError(f"ch4.protocol.run_seconds ({t1 - t0} s) must exceed settle "
+                         f"({settle} s): a robot set back on its feet eases in for that long")
+    entered = np.any(p_from != p_to, axis=1)  # from another gait: the assistant may reset
     fn = R.gait_command_fn(FAMILY, settle, t_tr)
     parts = []
     for start in range(0, n, unit):
@@ -159,10 +186,12 @@ def evaluate_particles(model, state, cfg, p_from, p_to, *, unit: int, timing: Ti
         h = None if heading is None else np.asarray(heading, np.float64)[pad]
         fw = None if forward is None else np.asarray(forward, np.float64)[pad]
         c0 = time.process_time()
-        sim = R.simulate(model, state, fn, mem, dur, heading=h, chunk=None, forward=fw)
+        sim = R.simulate(model, state, fn, mem, dur, heading=h, chunk=None, forward=fw,
+                         reset_at=t0, fall_height=fall_height, may_reset=entered[pad])
         timing.add(len(idx) * dur, sim["wall"], time.process_time() - c0)
-        terms = R.speed_terms(model, sim, t0, float(cfg["protocol"]["fall_height"]), t1)
-        terms.update(C.thread_load(model, sim, t0, t1))
+        ts = window_starts(cfg, sim["reset"])
+        terms = R.speed_terms(model, sim, ts, fall_height, t1)
+        terms.update(C.thread_load(model, sim, ts, t1), reset=sim["reset"])
         parts.append({k: v[:len(idx)] for k, v in terms.items()})
     out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     out["score"] = score_of(out)
@@ -179,7 +208,8 @@ class GenerationRecorder:
     evaluations their start positions along x (a pebble strip, :func:`start_sampler`).
     """
 
-    FIELDS = ("speed", "score", "fallen", "upright", "exploded", "taut", "thread_force")
+    FIELDS = ("speed", "score", "fallen", "upright", "exploded", "taut", "thread_force",
+              "reset")
 
     def __init__(self, model, state, cfg, keys: Sequence[Hashable], *, unit: int,
                  timing: Timing, label, starts=None):
@@ -336,7 +366,22 @@ def _particle_vars(dims, pos, fields) -> dict:
             units="1", long_name="fraction of the window before the first fall")),
         exploded=(dims, fields["exploded"], dict(
             units="1", long_name="1 if the simulation went unphysical (counted fallen)")),
+        **_reset_vars(dims, fields["reset"]),
         **_thread_vars(dims, fields))
+
+
+def _reset_vars(dims, reset) -> dict:
+    """The assistant's resets (departure ch4.fall_reset): per evaluation (dims end with
+    'particle') and their number per generation (dims without 'particle')."""
+    reset = np.asarray(reset, float)
+    return dict(
+        reset=(dims, reset, dict(
+            units="1", long_name="1 if the robot was down when its window began, having "
+                                 "entered from another gait, and was set back on its feet "
+                                 "at its start pose (not counted as a fall)")),
+        reset_count=(dims[:-1], reset.sum(axis=-1), dict(
+            units="1", long_name="evaluations of the generation whose robot was set back "
+                                 "on its feet at the start of its window")))
 
 
 def _thread_vars(dims, fields) -> dict:
@@ -403,9 +448,10 @@ def flat(ctx) -> xr.Dataset:
 def _logged(rec: GenerationRecorder, ctx, what: str):
     def evaluate(gen, xs):
         scores = rec(gen, xs)
-        ctx.log.info("ch4 %s generation %d: best score %.3f, fallen %.0f %%", what, gen,
-                     max(float(np.max(v)) for v in scores.values()),
-                     100 * np.mean([rec.records[k]["fallen"][-1] for k in rec.keys]))
+        ctx.log.info("ch4 %s generation %d: best score %.3f, fallen %.0f %%, set back %d",
+                     what, gen, max(float(np.max(v)) for v in scores.values()),
+                     100 * np.mean([rec.records[k]["fallen"][-1] for k in rec.keys]),
+                     int(sum(rec.records[k]["reset"][-1].sum() for k in rec.keys)))
         return scores
     return evaluate
 
@@ -572,6 +618,9 @@ def tether(ctx) -> xr.Dataset:
     taut = np.stack([terms["taut"].reshape(shape), flat_ds["taut"].values], axis=1)
     force = np.stack([terms["thread_force"].reshape(shape), flat_ds["thread_force"].values],
                      axis=1)
+    # a flat run written before the assistant's resets has none recorded: unknown, not 0
+    flat_reset = flat_ds["reset"].values if "reset" in flat_ds else np.full(shape, np.nan)
+    reset = np.stack([terms["reset"].reshape(shape).astype(float), flat_reset], axis=1)
     dims = ("seed", "tether", "generation", "particle")
     ds = xr.Dataset(
         dict(fallen=(dims, fallen, dict(units="1", long_name="1 if the robot fell")),
@@ -580,6 +629,7 @@ def tether(ctx) -> xr.Dataset:
              score=(dims, score, dict(units="m s-1", long_name=_SCORE_LONG)),
              fall_fraction=(dims[:3], fallen.mean(axis=-1), dict(
                  units="1", long_name="fraction of fallen evaluations per generation")),
+             **_reset_vars(dims, reset),
              **_thread_vars(dims, dict(taut=taut, thread_force=force))),
         coords=dict(seed=seeds, tether=[0, 1], generation=np.arange(G), particle=np.arange(P)))
     ds["tether"].attrs.update(units="1", long_name="1: with the safety thread (the flat run); "
