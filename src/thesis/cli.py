@@ -4,7 +4,8 @@
   its dataset (with provenance) to ``results/<profile>/<chapter>/<artifact>.nc``.
 - ``thesis bench physics --profile smoke``: run a registered benchmark the same way.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
-  write ``results/<profile>/claims.json``.
+  write ``results/<profile>/claims.json``, and the decision rules' power table beside it
+  (``claims_power.json``).
 - ``thesis report --profile smoke``: render ``reports/<profile>/index.html`` and
   ``summary.md``; ``--figures ch3`` renders only that chapter's figures.
 """
@@ -143,7 +144,22 @@ def _cmd_check(args) -> int:
     with store.atomic_path(out) as tmp:
         tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     log.info("claims: %s -> %s", counts, out)
+    _write_power(out.with_name(POWER_FILE))
     return 0
+
+
+#: The decision rules' power table, written beside ``claims.json`` (read by the report).
+POWER_FILE = "claims_power.json"
+
+
+def _write_power(path: Path) -> None:
+    """Write :func:`thesis.claims.calibration.power_table` (deterministic) to ``path``."""
+    from thesis.claims import calibration
+
+    with store.atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(calibration.power_table(), indent=2,
+                                  default=_json_default))
+    log.info("power of the decision rules -> %s", path)
 
 
 def _takes_config(fn) -> bool:

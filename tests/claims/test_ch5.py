@@ -18,7 +18,21 @@ def _noise(shape, seed=0, sd=0.5):
     return sd * np.random.default_rng(seed).standard_normal(shape)
 
 
-def table5_3(lr=None, rc=None, train_gain=15.0):
+#: The synthetic test sets' majority-class share [percent] (ours: 44-48 %).
+MAJORITY = 30.0
+
+
+def _baselines(ds, share=MAJORITY, dims=("seed", "split"), coords=("train", "test")):
+    """``ds`` with the baselines every ch5 artifact carries (train sets are balanced)."""
+    seeds = ds.sizes["seed"]
+    vals = np.tile([20.0, share], (seeds, 1)) if coords == ("train", "test") else \
+        np.full((seeds, len(coords)), share)
+    ds["majority_share"] = (dims, vals + _noise(vals.shape, 9, 0.2), {"units": "percent"})
+    ds["chance"] = ((), 20.0, {"units": "percent"})
+    return ds
+
+
+def table5_3(lr=None, rc=None, train_gain=15.0, share=MAJORITY):
     lr = np.array(lr if lr is not None else [72, 64, 67, 63, 66, 44, 48, 58], float)
     rc = np.array(rc if rc is not None else [76, 79, 81, 81, 82, 72, 74, 85], float)
     test = np.stack([lr, rc], -1)[None] + _noise((SEEDS, 8, 2), 1)
@@ -27,10 +41,11 @@ def table5_3(lr=None, rc=None, train_gain=15.0):
                             "split": ["train", "test"]})
     ds["accuracy"] = (("seed", "selection", "method", "split"), acc, {"units": "percent"})
     ds["dimensions"] = ("selection", DIMS, {"units": "1"})
-    return ds
+    return _baselines(ds, share)
 
 
-def table5_4(elm_touch=74.0, rc_touch=85.0, elm_min=80.0, rc_min=81.0, lr=(58.0, 67.0)):
+def table5_4(elm_touch=74.0, rc_touch=85.0, elm_min=80.0, rc_min=81.0, lr=(58.0, 67.0),
+             share=MAJORITY):
     nodes = [25, 50, 100, 200]
     acc = np.zeros((SEEDS, 2, 2, 4, 2))
     for gi, (e, r) in enumerate(((elm_touch, rc_touch), (elm_min, rc_min))):
@@ -47,19 +62,19 @@ def table5_4(elm_touch=74.0, rc_touch=85.0, elm_min=80.0, rc_min=81.0, lr=(58.0,
     lr_acc[..., 1] = np.array(lr)[None] + _noise((SEEDS, 2), 3)
     lr_acc[..., 0] = lr_acc[..., 1] + 5
     ds["lr_accuracy"] = (("seed", "selection", "split"), lr_acc, {"units": "percent"})
-    return ds
+    return _baselines(ds, share)
 
 
-def table5_5(sfa2=35.0, rc_sfa=55.0, train_gain=20.0):
+def table5_5(sfa2=35.0, rc_sfa=55.0, train_gain=20.0, share=MAJORITY):
     test = np.stack([np.full(8, sfa2), np.full(8, rc_sfa)], -1)[None] + _noise((SEEDS, 8, 2), 4)
     acc = np.stack([test + train_gain, test], -1)
     ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "selection": SEL,
                             "method": ["sfa2", "rc_sfa"], "split": ["train", "test"]})
     ds["accuracy"] = (("seed", "selection", "method", "split"), acc, {"units": "percent"})
-    return ds
+    return _baselines(ds, share)
 
 
-def table5_6(elm_sfa=70.0, rc_sfa=70.5):
+def table5_6(elm_sfa=70.0, rc_sfa=70.5, share=35.0):
     acc = np.zeros((SEEDS, 2, 3, 2))
     acc[:, 0, :, 1], acc[:, 1, :, 1] = elm_sfa, rc_sfa
     acc[..., 1] += _noise(acc[..., 1].shape, 5)
@@ -69,12 +84,13 @@ def table5_6(elm_sfa=70.0, rc_sfa=70.5):
     ds["accuracy"] = (("seed", "method", "nodes", "split"), acc, {"units": "percent"})
     ds["sfa2_accuracy"] = (("seed", "split"), np.tile([60.0, 38.0], (SEEDS, 1)),
                            {"units": "percent"})
-    return ds
+    return _baselines(ds, share)
 
 
 def fig5_3(freq_recall=80.0, gait_recall=30.0):
     recall = np.full((SEEDS, 2, 5), np.nan)
-    recall[:, 0, :2] = [5.0, freq_recall]   # F (2 training trials) fails, S generalises
+    # F (2 training trials) fails, C (3) is not scored; S, L, R (5) are: baseline 100/3
+    recall[:, 0, :] = [5.0, freq_recall, freq_recall - 5, 10.0, freq_recall + 2]
     recall[:, 1, :3] = [5.0, gait_recall, gait_recall + 5]
     recall += _noise(recall.shape, 6)
     ds = xr.Dataset(coords={"seed": np.arange(SEEDS), "test": ["frequency", "gait"],
@@ -82,7 +98,7 @@ def fig5_3(freq_recall=80.0, gait_recall=30.0):
     ds["recall"] = (("seed", "test", "true"), recall, {"units": "percent"})
     ds["train_trials"] = (("seed", "true"), np.tile([2, 5, 5, 3, 5], (SEEDS, 1)), {"units": "1"})
     ds.attrs["min_train_trials"] = 5
-    return ds
+    return _baselines(ds, 50.0, dims=("seed", "test"), coords=("frequency", "gait"))
 
 
 def check(claim_id, **results):
@@ -193,3 +209,60 @@ def test_too_small_a_profile_is_inconclusive_whatever_the_numbers():
         assert v.status == "inconclusive" and "100-node" in v.detail, (cid, v.detail)
     v = claims.get("ch8.ch5_memory_important").check({"ch5/table5_4": small})
     assert v.status == "inconclusive"
+
+
+# ---------------------------------------------------------------- baselines
+AT_BASELINE = 44.0  # every method scores the test set's majority-class share
+
+
+def test_methods_at_the_majority_share_decide_nothing():
+    """The issue's case: every method sits at the baseline, so "a limited selection
+    suffices", "RC and ELM are equal", "recurrence makes no difference" and the train/test
+    gap must not be reproduced however the methods compare."""
+    flat = [AT_BASELINE] * 8
+    r = dict(table5_3=table5_3(lr=flat, rc=flat, share=AT_BASELINE),
+             table5_4=table5_4(AT_BASELINE, AT_BASELINE, AT_BASELINE, AT_BASELINE,
+                               share=AT_BASELINE),
+             table5_5=table5_5(AT_BASELINE, AT_BASELINE, share=AT_BASELINE),
+             table5_6=table5_6(AT_BASELINE, AT_BASELINE, share=AT_BASELINE))
+    for cid in ("ch5.limited_sensor_selection_suffices",
+                "ch5.rc_and_elm_equal_with_enough_inputs",
+                "ch5.recurrence_no_difference_unsupervised", "ch5.train_test_gap"):
+        v = check(cid, **r)
+        assert v.status == "inconclusive", (cid, v.detail)
+        assert "majority-class share" in v.detail, (cid, v.detail)
+
+
+def test_a_comparison_below_the_baseline_is_not_reproduced_but_reported():
+    v = check("ch5.reservoir_better_with_few_sensors",
+              table5_4=table5_4(elm_touch=35.0, rc_touch=40.0, share=AT_BASELINE))
+    assert v.status == "inconclusive" and "rc do(es) not beat" in v.detail
+    assert v.measured["rc_over_baseline.advantage_ci_high"] < 0
+    assert v.measured["chance"] == 20.0
+    # the same comparison above the baseline reproduces, the baseline in the detail
+    v = check("ch5.reservoir_better_with_few_sensors", table5_4=table5_4())
+    assert v.status == "reproduced" and "chance 20 %" in v.detail
+
+
+def test_frequency_recall_against_a_constant_classifiers_mean_recall():
+    ds = fig5_3()
+    ds["train_trials"][:] = np.tile([2, 5, 3, 3, 3], (SEEDS, 1))  # S alone is scored
+    v = check("ch5.generalises_to_frequencies_not_gaits", fig5_3=ds)
+    assert v.status == "inconclusive" and v.measured["baseline_mean"] == 100.0
+
+
+def test_datasets_without_baselines_do_not_decide():
+    v = check("ch5.rc_touch_best_overall", table5_3=table5_3().drop_vars("majority_share"))
+    assert v.status == "not_run" and "majority_share" in v.detail
+    assert all(any(r.endswith(":majority_share") for r in c.reads)
+               for c in claims.CLAIMS if c.chapter == 5)
+
+
+def test_majority_share_of_a_set():
+    from thesis.terrain.experiments import majority_share
+    from thesis.terrain.protocol import Segment
+
+    terrain = np.array([0, 0, 1, 2])
+    segs = [Segment(0, 0, 300), Segment(1, 0, 140), Segment(2, 0, 60), Segment(3, 0, 100)]
+    assert majority_share(segs, terrain, 5) == 100.0 * 440 / 600
+    assert np.isnan(majority_share([], terrain, 5))

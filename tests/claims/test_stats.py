@@ -210,8 +210,13 @@ def test_vargha_delaney_and_majority():
     assert stats.vargha_delaney([2, 3], [1, 1]) == 1.0
     assert stats.vargha_delaney([1, 1], [1, 1]) == 0.5
     assert np.isnan(stats.vargha_delaney([], [1.0]))
-    assert stats.decide_majority([1, 1, 0, 1]).status == "reproduced"
-    assert stats.decide_majority([1, 0, 0, 0]).status == "not_reproduced"
+    # rule 10 is an exact binomial test at 2.5 %: 5 seeds can never show a majority
+    five = stats.decide_majority([1, 1, 1, 1, 1])
+    assert five.status == "inconclusive" and "needs at least 6 seeds" in five.detail
+    assert stats.decide_majority([1] * 6).status == "reproduced"
+    assert stats.decide_majority([1] * 9 + [0]).status == "reproduced"
+    assert stats.decide_majority([1] * 8 + [0] * 2).status == "inconclusive"
+    assert stats.decide_majority([0] * 6).status == "not_reproduced"
     assert stats.decide_majority([1, 0, 1, 0]).status == "inconclusive"
     assert stats.decide_majority([1, 1]).status == "inconclusive"
 
@@ -224,3 +229,84 @@ def test_rule9_tiny_consistent_advantage_is_not_significantly_better():
     assert v.status == "reproduced", v.detail
     assert stats.decide_runs_over_generations(a, b, bound=0.05,
                                               claim="no_difference").status != "not_reproduced"
+
+
+# ---------------------------------------------------------------- rule 3's t interval
+
+def test_mean_interval_is_students_t():
+    from scipy import stats as sps
+
+    x = np.array([1.0, 2.0, 4.0, 7.0])
+    ci = stats.mean_interval(x)
+    half = sps.t.ppf(0.975, 3) * x.std(ddof=1) / 2.0
+    assert ci.method == "t" and ci.mean == 3.5
+    assert ci.low == pytest.approx(3.5 - half) and ci.high == pytest.approx(3.5 + half)
+    assert stats.mean_interval([2.0, 2.0, 2.0]).method == "degenerate"
+    assert stats.mean_interval([7.0, np.nan]).method == "single"
+    assert stats.mean_interval([]).method == "none"
+
+
+def test_t_pvalue_is_dual_to_the_interval():
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        x = rng.normal(0.8, 1.0, 5)
+        ci = stats.mean_interval(x)
+        p = stats.t_pvalue(x, greater=True)
+        assert (ci.low > 0) == (p < stats.ONE_SIDED)
+        assert stats.t_pvalue(x, greater=False) == pytest.approx(1 - p)
+    assert stats.t_pvalue([1.0, 1.0, 1.0]) == 0.0
+    assert stats.t_pvalue([1.0, 1.0, 1.0], null=2.0) == 1.0
+    assert math.isnan(stats.t_pvalue([1.0]))
+
+
+def test_holm_step_down():
+    # m = 3: 0.005 <= 0.025/3, 0.012 <= 0.025/2, 0.03 > 0.025
+    np.testing.assert_array_equal(stats.holm([0.03, 0.005, 0.012]), [False, True, True])
+    np.testing.assert_array_equal(stats.holm([0.01, 0.02, 0.5]), [False] * 3)
+    np.testing.assert_array_equal(stats.holm([np.nan, 0.001]), [False, True])
+
+
+def test_decide_any_corrects_for_the_configurations():
+    good = {"a": [1.0, 1.1, 0.9, 1.05], "b": [0.0, 0.1, -0.1, 0.05]}
+    v = stats.decide_any(good, bound=0.5, below=False, label="x")
+    assert v.status == "reproduced" and "for a" in v.detail
+    assert v.measured["n_configurations_holding"] == 1
+    bad = {"a": [0.0, 0.1, -0.1], "b": [0.2, 0.1, 0.15]}
+    assert stats.decide_any(bad, bound=0.5, below=False).status == "not_reproduced"
+    # p = 0.02 alone would hold at 2.5 %, not as the best of two (Holm: 0.0125)
+    from scipy import stats as sps
+
+    x = np.array([0.0, 1.0, 2.0, 3.0])
+    t = sps.t.isf(0.02, 3)
+    one = x - x.mean() + t * x.std(ddof=1) / 2.0  # one-sided p = 0.02 against 0
+    assert stats.t_pvalue(one) == pytest.approx(0.02)
+    v = stats.decide_any({"a": one, "b": -one}, bound=0.0, below=False)
+    assert v.status == "inconclusive" and "Holm" in v.detail
+
+
+def test_decide_exists():
+    v = stats.decide_exists([0, 0, 1, 0, 0], label="found")
+    assert v.status == "reproduced" and "1 of 5" in v.detail
+    assert v.measured["rate_ci_low"] < 0.2 < v.measured["rate_ci_high"]
+    assert stats.decide_exists([0, 0, 0]).status == "not_reproduced"
+    assert stats.decide_exists([0, np.nan]).status == "inconclusive"
+    assert stats.decide_exists([1]).status == "reproduced"
+
+
+def test_judge_rate_and_reachability():
+    kw = dict(works_rate=0.6, fails_rate=0.2)
+    assert stats.judge_rate(3, 3, **kw) == "works" and stats.judge_rate(0, 3, **kw) == "unclear"
+    assert stats.reachable(3, **kw) == (True, False)
+    assert stats.judge_rate(6, 10, **kw) == "works" and stats.judge_rate(5, 10, **kw) == "unclear"
+    assert stats.judge_rate(2, 10, **kw) == "fails" and stats.judge_rate(3, 10, **kw) == "unclear"
+    assert stats.binom_tail(4, 5, 0.2, upper=True) == pytest.approx(0.00672)
+
+
+def test_batched_run_statistics_match_the_per_generation_loop():
+    a, b = _runs(0.3, seeds=3, gens=4, n=7, rng=9)
+    batched = stats.run_statistics(a, b)
+    a_nan = a.copy()
+    a_nan[0, 0, 0] = np.nan  # forces the per-generation path
+    looped = stats.run_statistics(a_nan, b)
+    for k in ("p_greater", "p_two_sided", "effect"):
+        np.testing.assert_allclose(batched[k][1:], looped[k][1:], rtol=1e-12)

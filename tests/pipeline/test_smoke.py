@@ -168,3 +168,41 @@ def test_report_renders_and_all_images_load(smoke_run, tmp_path):
                     f"--screenshot={shot}", "--window-size=1200,2000", index.as_uri()],
                    capture_output=True, timeout=120)
     assert shot.exists() and shot.stat().st_size > 10_000
+
+
+OVERFLOW = """
+<script>
+window.addEventListener('load', function () {
+  var root = document.documentElement;
+  var wide = Array.from(document.body.querySelectorAll('*')).filter(function (e) {
+    return e.getBoundingClientRect().right > root.clientWidth + 1;
+  }).slice(0, 5).map(function (e) {
+    return e.tagName + (e.id ? '#' + e.id : '') + (e.className ? '.' + e.className : '');
+  });
+  var d = document.createElement('div');
+  d.id = 'overflowcheck';
+  d.textContent = 'WIDTH ' + root.scrollWidth + ' ' + root.clientWidth + ' WIDEST ' +
+                  wide.join(',') + ' END';
+  document.body.appendChild(d);
+});
+</script>
+"""
+
+
+@pytest.mark.browser
+def test_report_has_no_horizontal_overflow_at_1400px(smoke_run, tmp_path):
+    """At a 1400-px-wide window the page never scrolls sideways: the claims table wraps
+    (fixed layout, numbers in words, raw keys folded away) and wide data tables scroll
+    inside their own box (document scrollWidth <= clientWidth)."""
+    chromium = _chromium()
+    index = ROOT / "reports" / "smoke" / "index.html"
+    probe = tmp_path / "index.html"
+    probe.write_text(index.read_text().replace("</body>", OVERFLOW + "</body>"))
+    dom = subprocess.run([chromium, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}",
+                          "--window-size=1400,2000", "--dump-dom", probe.as_uri()],
+                         capture_output=True, text=True, timeout=120)
+    m = re.search(r"WIDTH (\d+) (\d+) WIDEST (.*?) END", dom.stdout)
+    assert m, f"page did not finish loading:\n{dom.stderr[-2000:]}"
+    scroll, client = int(m.group(1)), int(m.group(2))
+    assert client >= 1300, f"the window is not 1400 px wide ({client})"
+    assert scroll <= client, f"horizontal overflow {scroll} > {client}: {m.group(3)}"

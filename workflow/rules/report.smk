@@ -20,6 +20,8 @@ rule claims:
         ALL_RESULTS,
     output:
         json=f"results/{PROFILE}/claims.json",
+        # the decision rules' power table, written beside claims.json (thesis.cli)
+        power=f"results/{PROFILE}/claims_power.json",
     params:
         code=REPORT_CODE,
     log:
@@ -71,6 +73,7 @@ rule report:
         "Rendering reports/{PROFILE}/index.html"
     input:
         claims=rules.claims.output.json,
+        power=rules.claims.output.power,
         figures=[f"reports/{PROFILE}/figures/{ch}/manifest.json" for ch in CHAPTERS],
     output:
         html=f"reports/{PROFILE}/index.html",

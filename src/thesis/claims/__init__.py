@@ -45,6 +45,18 @@ def get(claim_id: str) -> Claim:
     return _BY_ID[claim_id]
 
 
+def _units(reads, results: Mapping[str, xr.Dataset]) -> dict[str, str]:
+    """``"<result key>:<variable>"`` -> the variable's ``units`` attribute, for every
+    variable a claim reads that is present (the report names the measured numbers' unit)."""
+    out = {}
+    for item in reads:
+        key, _, name = item.partition(":")
+        ds = results.get(key)
+        if ds is not None and name in ds.variables:
+            out[item] = str(ds[name].attrs.get("units", ""))
+    return out
+
+
 def _paper_entry(key: str) -> dict[str, object]:
     e = paper.get(key)
     return {"key": e.key, "table": e.table, "row": e.row, "column": e.column,
@@ -53,14 +65,16 @@ def _paper_entry(key: str) -> dict[str, object]:
 
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, object]:
     """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
-    departures of the results it rests on (``departures``, each with ``in_effect``) and its
-    ``reading`` (:func:`thesis.claims.basis.reading`)."""
+    units of the variables it reads (``units``), the departures of the results it rests on
+    (``departures``, each with ``in_effect``) and its ``reading``
+    (:func:`thesis.claims.basis.reading`)."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     return {
         "id": claim.id, "chapter": claim.chapter, "section": claim.section,
         "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
-        "reads": list(claim.reads), "paper": [_paper_entry(k) for k in claim.paper_keys],
+        "reads": list(claim.reads), "units": _units(claim.reads, results),
+        "paper": [_paper_entry(k) for k in claim.paper_keys],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
     }
@@ -70,8 +84,9 @@ def evaluate_all(results: Mapping[str, xr.Dataset], *,
                  n_resamples: int | None = None) -> list[dict[str, object]]:
     """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`).
 
-    ``n_resamples`` (config ``report.bootstrap_resamples``) overrides the number of
-    bootstrap resamples, default :data:`thesis.claims.stats.N_RESAMPLES`.
+    ``n_resamples`` (config ``report.bootstrap_resamples``) sets the resamples of
+    :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
+    is the Student t interval), so it does not change a verdict.
     """
     if n_resamples is None:
         return [evaluate(c, results) for c in CLAIMS]

@@ -90,27 +90,30 @@ def scale_gaps(ds) -> list[str]:
 
 
 def chirpz_reaches_published_error(results: Results) -> Verdict:
-    """The best chirp-Z configuration's error is at most the thesis's 1.8 % (+25 %).
-
-    Reaching it with less data or narrower networks than the thesis's reproduces it;
-    missing it then does not refute it (rule 11): inconclusive, naming the gaps."""
+    """Some chirp-Z configuration (model, d) has an error of at most the thesis's 1.8 %
+    (+25 %): rule 6 per configuration with Holm's correction over all of them
+    (:func:`thesis.claims.stats.decide_any`; choosing the best configuration by its mean
+    and then testing it on the same seeds would not correct for the choice). Reaching it
+    with less data or narrower networks than the thesis's reproduces it; missing it then
+    does not refute it (rule 11): inconclusive, naming the gaps."""
     err = pick(_errors(results), transform="chirp_z")
     cells = stats.per_seed(err, keep=("model", "d"))
-    means = cells.mean("seed", skipna=True).stack(cell=("model", "d"))
-    if not np.isfinite(means.values).any():
-        return Verdict("inconclusive", {}, "best chirp-Z configuration", "no finite errors")
-    i = int(np.nanargmin(means.values))
-    model, d = means["model"].values[i], means["d"].values[i]
-    values = cells.sel(model=model, d=d).values
+    groups = {f"{m}_d{int(d)}": cells.sel(model=m, d=d).values
+              for m in cells["model"].values for d in cells["d"].values}
+    if not any(np.isfinite(v).any() for v in groups.values()):
+        return Verdict("inconclusive", {}, "chirp-Z configurations", "no finite errors")
     published = paper.get("table2_2/transform=chirp_z/best_test_error").value / 100.0
     bound = published * (1 + stats.PUBLISHED_TOLERANCE)
-    v = stats.decide_threshold(values, bound=bound, below=True, label="best_chirp_z_error")
-    extra = {"best_model": str(model), "best_d": float(d), "published_error": published}
-    statistic = v.statistic + " (configuration chosen by its mean over seeds)"
+    v = stats.decide_any(groups, bound=bound, below=True, label="chirp_z_error")
+    means = {g: float(np.nanmean(x)) if np.isfinite(x).any() else np.inf
+             for g, x in groups.items()}
+    best = min(means, key=means.get)
+    extra = {"best_configuration": best, "best_mean_error": means[best],
+             "published_error": published}
     gaps = scale_gaps(results[KEY])
     if v.status != "reproduced" and gaps:
-        return stats.untestable(gaps, {**v.measured, **extra}, statistic)
-    return Verdict(v.status, {**v.measured, **extra}, statistic, v.detail)
+        return stats.untestable(gaps, {**v.measured, **extra}, v.statistic)
+    return Verdict(v.status, {**v.measured, **extra}, v.statistic, v.detail)
 
 
 def recurrent_beats_feedforward(results: Results) -> Verdict:
@@ -159,10 +162,10 @@ CLAIMS: tuple[Claim, ...] = (
     Claim(
         id="ch2.chirpz_reaches_1_8_percent", chapter=2, section="§2.5",
         quote="being able to achieve a 1.8% error rate.",
-        summary="The best chirp-Z configuration (by mean over seeds) has a per-seed error whose "
-                "interval lies below 1.8 % x 1.25 (rule 6 with the published tolerance); "
-                "missing it with less data or narrower networks than the thesis's is "
-                "inconclusive (rule 11).",
+        summary="Some chirp-Z configuration (model, d) has a per-seed error whose mean lies "
+                "below 1.8 % x 1.25 (rule 6 with the published tolerance, Holm's correction "
+                "over the configurations); missing it with less data or narrower networks "
+                "than the thesis's is inconclusive (rule 11).",
         paper_keys=("table2_2/transform=chirp_z/best_test_error", "sec2.5/n_train"),
         requires=(KEY,), reads=READS, fn=chirpz_reaches_published_error,
     ),

@@ -361,28 +361,27 @@ def distance_grows_with_slope(results: Results) -> Verdict:
 
 @at_thesis_budget(T42)
 def not_necessarily_closer(results: Results) -> Verdict:
-    """§4.6.1: the transferred run's best particle is not always closer to the flat best
-    than the random run's: reproduced when it is farther for at least one seed and slope,
-    not reproduced when it is closer in every one (at least 3 seeds)."""
+    """§4.6.1: "the result of the optimization with transfer learning is not necessarily
+    closer to the original solution". The thesis asked whether transfer *stays* closer to
+    the flat best, and its Tab. 4.2 answers no: closer on the 9 % grade, farther on the
+    18 % one. Read as: on some slope the transferred run's best particle is farther from
+    the flat best than the random run's, as a property of the method (over seeds), not of
+    one pair: rule 6 per slope on the per-seed distance difference (transfer - random)
+    above 0, Holm's correction over the two slopes (:func:`thesis.claims.stats.decide_any`);
+    not reproduced when transfer's best is closer on both slopes (each interval below 0).
+    The count of farther (seed, slope) pairs is reported beside it."""
     d = _distances(results, T42, ("grade",), grade=list(GRADES))
     tl = d.sel(transfer=1).transpose("seed", "grade").values
     rnd = d.sel(transfer=0).transpose("seed", "grade").values
     ok = np.isfinite(tl) & np.isfinite(rnd)
-    farther = int((tl[ok] > rnd[ok]).sum())
-    n_seeds = int(ok.any(axis=1).sum())
-    measured = {"n_seeds": n_seeds, "n_pairs": int(ok.sum()), "n_pairs_transfer_farther": farther,
-                "mean_distance_transfer": float(np.mean(tl[ok])) if ok.any() else np.nan,
-                "mean_distance_random": float(np.mean(rnd[ok])) if ok.any() else np.nan}
-    statistic = ("number of (seed, slope) pairs whose transferred best particle is farther "
-                 "from the flat best than the random run's")
-    if n_seeds < stats.MIN_SEEDS:
-        return Verdict("inconclusive", measured, statistic,
-                       f"only {n_seeds} seed(s); at least {stats.MIN_SEEDS} are needed")
-    if farther:
-        return Verdict("reproduced", measured, statistic,
-                       f"transfer's best is farther in {farther} of {int(ok.sum())} pairs")
-    return Verdict("not_reproduced", measured, statistic,
-                   "transfer's best is closer to the flat best in every seed and slope")
+    v = stats.decide_any({f"grade{g}": tl[:, i] - rnd[:, i] for i, g in enumerate(GRADES)},
+                         bound=0.0, below=False, label="distance_transfer_minus_random")
+    measured = {**v.measured, "n_pairs": int(ok.sum()),
+                "n_pairs_transfer_farther": int((tl[ok] > rnd[ok]).sum())}
+    return Verdict(v.status, measured, v.statistic,
+                   f"{v.detail}; transfer's best farther in "
+                   f"{measured['n_pairs_transfer_farther']} of {measured['n_pairs']} "
+                   "(seed, slope) pairs")
 
 
 def _median_gain(score: np.ndarray, last: int) -> np.ndarray:
@@ -621,9 +620,9 @@ CLAIMS: tuple[Claim, ...] = (
         id="ch4.transfer_not_necessarily_closer", chapter=4, section="§4.6.1",
         quote="with transfer learning is not necessarily closer to the original solution, which "
               "serves as an indication that enough exploration does happen.",
-        summary="The transferred run's best particle is farther from the flat best than the "
-                "random run's in at least one seed and slope (not reproduced if it is closer "
-                "in all).",
+        summary="On some slope the transferred run's best particle is farther from the flat "
+                "best than the random run's (rule 6 on the per-seed difference, Holm over the "
+                "two slopes); not reproduced when it is closer on both.",
         paper_keys=tuple(f"table4_2/grade={g}/transfer={t}/euclidean_distance"
                          for g in GRADES for t in (0, 1)),
         requires=(T42,), reads=(f"{T42}:euclidean_distance",), fn=not_necessarily_closer,

@@ -33,12 +33,25 @@ Decision margins, fixed in code before any default result was looked at (CH456 Â
   table compares at 100, and at least :data:`MIN_TRAIN_TRIALS` training trials per terrain
   scored in Fig. 5.3.
 
+Baselines (every artifact carries them, computed from the labels of the sets it scores:
+``majority_share`` (seed, split; Fig. 5.3: seed, test), the test set's share of its most
+frequent terrain, and ``chance``, 100 / the number of terrains): a claim about
+classification quality may be *reproduced* only when the methods it needs to classify
+beat the test set's majority-class share (rule 4 of each method's per-seed test accuracy
+against its seed's share, :func:`baseline_gate`); otherwise the comparison is
+*inconclusive*, with the reason and the comparison's own outcome in the detail. Which
+methods must beat it follows the sentence: the better side of "A beats B", both sides of
+"A is like B" and of "a selection suffices", every method of the train/test gap. Fig.
+5.3's mean recall over terrains is compared with 100 / the number of terrains scored (a
+constant classifier's mean recall), not with the majority share.
+
 Everything is decided per seed (reservoir/ELM draws and sample selections), with the rules
 of :mod:`thesis.claims.stats`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
@@ -136,6 +149,45 @@ def _guard(*keys: str, nodes_of: tuple[str, ...] = ()):
     return wrap
 
 
+def majority(results: Results, key: str) -> np.ndarray:
+    """Per-seed test-set majority-class share [percent] of ``key`` (dims (seed,))."""
+    da = variable(results, key, "majority_share", dims=("seed", "split"))
+    return stats.per_seed(pick(da, split="test")).values
+
+
+def _chance(results: Results, key: str) -> float:
+    return float(variable(results, key, "chance").values)
+
+
+def baseline_gate(v: Verdict, methods: dict[str, np.ndarray], baseline: np.ndarray, *,
+                  chance: float, what: str = "the test set's majority-class share") -> Verdict:
+    """``v`` (a comparison between methods) once the ``methods`` (name -> per-seed test
+    accuracy [percent]) are shown to classify: rule 4 of each against ``baseline``
+    (per-seed, paired by seed). A reproduced ``v`` becomes inconclusive when a method does
+    not beat it; other statuses stand. The measured numbers gain each method's advantage
+    over the baseline with its interval, the baseline and chance."""
+    parts = {m: stats.decide_beats(a, baseline, higher_is_better=True, label_a=m,
+                                   label_b="baseline") for m, a in methods.items()}
+    base_mean = float(np.nanmean(baseline)) if np.isfinite(baseline).any() else np.nan
+    measured = {**v.measured, "baseline_mean": base_mean, "chance": chance}
+    for m, bv in parts.items():
+        measured.update({f"{m}_over_baseline.advantage_mean": bv.measured["advantage_mean"],
+                         f"{m}_over_baseline.advantage_ci_low": bv.measured["advantage_ci_low"],
+                         f"{m}_over_baseline.advantage_ci_high":
+                             bv.measured["advantage_ci_high"]})
+    statistic = (v.statistic + f"; first, rule 4 of each of {', '.join(methods)} against "
+                 f"{what}")
+    short = [m for m, bv in parts.items() if bv.status != "reproduced"]
+    base = f"{what} {base_mean:.3g} %, chance {chance:.3g} %"
+    if v.status == "reproduced" and short:
+        return Verdict("inconclusive", measured, statistic,
+                       f"{', '.join(short)} do(es) not beat {base} (rule 4: "
+                       f"{'; '.join(parts[m].status for m in short)}), so the comparison "
+                       f"says nothing about classification; it alone: {v.status}: {v.detail}")
+    return Verdict(v.status, measured, statistic, f"{v.detail} ({base}; beaten by "
+                   f"{', '.join(m for m in methods if m not in short) or 'none'})")
+
+
 # ------------------------------------------------------------------ checks
 @_guard(T53)
 def limited_selection_suffices(results: Results) -> Verdict:
@@ -144,8 +196,11 @@ def limited_selection_suffices(results: Results) -> Verdict:
     diff = _s(per, selection="minimal").values - _s(per, selection="useful").values
     v = stats.decide_threshold(diff, bound=-NON_INFERIORITY, below=False,
                                label="rc_minimal_minus_useful")
-    return _with(v, rc_minimal=float(np.mean(_s(per, selection="minimal").values)),
-                 rc_useful=float(np.mean(_s(per, selection="useful").values)))
+    v = _with(v, rc_minimal=float(np.mean(_s(per, selection="minimal").values)),
+              rc_useful=float(np.mean(_s(per, selection="useful").values)))
+    return baseline_gate(v, {"rc_minimal": _s(per, selection="minimal").values,
+                             "rc_useful": _s(per, selection="useful").values},
+                         majority(results, T53), chance=_chance(results, T53))
 
 
 @_guard(T53, T54, nodes_of=(T54,))
@@ -160,8 +215,14 @@ def nonlinearity_needed(results: Results) -> Verdict:
     for s in ("touch", "minimal"):
         elm, rc, lr, n = _t54(results, s)
         for name, a in (("elm", elm), ("rc", rc)):
-            parts[f"t54_{s}_{name}"] = _with(stats.decide_threshold(
-                a - lr, bound=LR_GAP, below=False, label=f"{name}_minus_lr"), nodes=n)
+            parts[f"t54_{s}_{name}"] = baseline_gate(_with(stats.decide_threshold(
+                a - lr, bound=LR_GAP, below=False, label=f"{name}_minus_lr"), nodes=n),
+                {f"{name}_{s}": a}, majority(results, T54), chance=_chance(results, T54))
+    base53 = majority(results, T53)
+    for s in _SEL:
+        parts[f"t53_{s}"] = baseline_gate(parts[f"t53_{s}"], {
+            f"rc_{s}": _s(per, selection=s, method="rc").values}, base53,
+            chance=_chance(results, T53))
     return stats.combine(parts)
 
 
@@ -170,17 +231,21 @@ def reservoir_beats_quadratic(results: Results) -> Verdict:
     """RC-SFA test accuracy exceeds SFA2's on every group (rule 4 each); the measured gaps
     are reported beside the thesis's 12.8-27.1 points."""
     per = _acc(results, T55, ("selection", "method"), split="test")
-    return stats.combine({s: stats.decide_beats(
+    base = majority(results, T55)
+    return stats.combine({s: baseline_gate(stats.decide_beats(
         _s(per, selection=s, method="rc_sfa").values, _s(per, selection=s, method="sfa2").values,
-        higher_is_better=True, label_a="rc_sfa", label_b="sfa2") for s in _SEL})
+        higher_is_better=True, label_a="rc_sfa", label_b="sfa2"),
+        {f"rc_sfa_{s}": _s(per, selection=s, method="rc_sfa").values}, base,
+        chance=_chance(results, T55)) for s in _SEL})
 
 
 @_guard(T54, nodes_of=(T54,))
 def rc_beats_elm_on_touch(results: Results) -> Verdict:
     """On touch, RC test accuracy exceeds the leaky ELM's (Tab. 5.4, rule 4)."""
     elm, rc, _, n = _t54(results, "touch")
-    return _with(stats.decide_beats(rc, elm, higher_is_better=True, label_a="rc",
-                                    label_b="elm"), nodes=n)
+    v = _with(stats.decide_beats(rc, elm, higher_is_better=True, label_a="rc",
+                                 label_b="elm"), nodes=n)
+    return baseline_gate(v, {"rc": rc}, majority(results, T54), chance=_chance(results, T54))
 
 
 @_guard(T54, nodes_of=(T54,))
@@ -188,8 +253,10 @@ def rc_elm_equal_on_minimal(results: Results) -> Verdict:
     """On minimal, RC and ELM test accuracies differ by less than EQUIVALENCE_MARGIN
     (Tab. 5.4, rule 5)."""
     elm, rc, _, n = _t54(results, "minimal")
-    return _with(stats.decide_equivalent(rc - elm, margin=EQUIVALENCE_MARGIN,
-                                         label="rc_minus_elm"), nodes=n)
+    v = _with(stats.decide_equivalent(rc - elm, margin=EQUIVALENCE_MARGIN,
+                                      label="rc_minus_elm"), nodes=n)
+    return baseline_gate(v, {"rc": rc, "elm": elm}, majority(results, T54),
+                         chance=_chance(results, T54))
 
 
 @_guard(T56)
@@ -197,47 +264,60 @@ def recurrence_no_difference_unsupervised(results: Results) -> Verdict:
     """Tab. 5.6: RC-SFA and ELM-SFA test accuracies (mean over node counts) differ by less
     than EQUIVALENCE_MARGIN (rule 5)."""
     per = _acc(results, T56, ("method",), split="test")
-    return stats.decide_equivalent(_s(per, method="rc_sfa").values
-                                   - _s(per, method="elm_sfa").values,
-                                   margin=EQUIVALENCE_MARGIN, label="rc_sfa_minus_elm_sfa")
+    rc, elm = _s(per, method="rc_sfa").values, _s(per, method="elm_sfa").values
+    v = stats.decide_equivalent(rc - elm, margin=EQUIVALENCE_MARGIN,
+                                label="rc_sfa_minus_elm_sfa")
+    return baseline_gate(v, {"rc_sfa": rc, "elm_sfa": elm}, majority(results, T56),
+                         chance=_chance(results, T56))
 
 
 @_guard(T53)
 def tactile_important(results: Results) -> Verdict:
     """agt beats imu and leg beats joints (test), for LR and for RC (rule 4 each)."""
     per = _acc(results, T53, ("selection", "method"), split="test")
+    base = majority(results, T53)
     parts = {}
     for m in ("lr", "rc"):
         for with_t, without in (("agt", "imu"), ("leg", "joints")):
-            parts[f"{m}_{with_t}_vs_{without}"] = stats.decide_beats(
-                _s(per, selection=with_t, method=m).values,
-                _s(per, selection=without, method=m).values, higher_is_better=True,
-                label_a=with_t, label_b=without)
+            with_acc = _s(per, selection=with_t, method=m).values
+            parts[f"{m}_{with_t}_vs_{without}"] = baseline_gate(stats.decide_beats(
+                with_acc, _s(per, selection=without, method=m).values,
+                higher_is_better=True, label_a=with_t, label_b=without),
+                {f"{m}_{with_t}": with_acc}, base, chance=_chance(results, T53))
     return stats.combine(parts)
 
 
 def _recall(results: Results, test: str) -> np.ndarray:
-    """Per seed, mean recall over terrains with enough training trials present in ``test``."""
+    """Per seed, mean recall over terrains with enough training trials present in ``test``
+    (:func:`_recall_and_chance`)."""
+    return _recall_and_chance(results, test)[0]
+
+
+def _recall_and_chance(results: Results, test: str) -> tuple[np.ndarray, np.ndarray]:
+    """Per seed, (mean recall over the terrains with enough training trials present in
+    ``test``, 100 / their number: a constant classifier's mean recall over them)."""
     rec = variable(results, F53, "recall", dims=("seed", "test", "true"))
     n_train = variable(results, F53, "train_trials", dims=("seed", "true"))
     need = float(results[F53].attrs.get("min_train_trials", 5))
     r = pick(rec, test=test).transpose("seed", "true").values
     ok = n_train.transpose("seed", "true").values >= need
-    out = np.full(r.shape[0], np.nan)
+    out, base = np.full(r.shape[0], np.nan), np.full(r.shape[0], np.nan)
     for i in range(r.shape[0]):
         keep = ok[i] & np.isfinite(r[i])
         if keep.any():
-            out[i] = r[i, keep].mean()
-    return out
+            out[i], base[i] = r[i, keep].mean(), 100.0 / keep.sum()
+    return out, base
 
 
 @_guard(F53)
 def frequencies_not_gaits(results: Results) -> Verdict:
     """Trained on bound right at 1 Hz: mean recall (terrains with enough training trials)
     on unseen frequencies exceeds that on unseen gaits (rule 4)."""
-    return stats.decide_beats(_recall(results, "frequency"), _recall(results, "gait"),
-                              higher_is_better=True, label_a="frequency_recall",
-                              label_b="gait_recall")
+    freq, base = _recall_and_chance(results, "frequency")
+    v = stats.decide_beats(freq, _recall(results, "gait"), higher_is_better=True,
+                           label_a="frequency_recall", label_b="gait_recall")
+    return baseline_gate(v, {"frequency_recall": freq}, base, chance=_chance(results, F53),
+                         what="a constant classifier's mean recall (100 / terrains scored)")
 
 
 @_guard(T53)
@@ -245,10 +325,12 @@ def rc_touch_best_overall(results: Results) -> Verdict:
     """RC on touch beats every other (group, method) cell of Tab. 5.3 (test, rule 4 each)."""
     per = _acc(results, T53, ("selection", "method"), split="test")
     best = _s(per, selection="touch", method="rc").values
-    return stats.combine({f"{s}_{m}": stats.decide_beats(
+    v = stats.combine({f"{s}_{m}": stats.decide_beats(
         best, _s(per, selection=s, method=m).values, higher_is_better=True,
         label_a="rc_touch", label_b=f"{m}_{s}")
         for s in _SEL for m in ("lr", "rc") if (s, m) != ("touch", "rc")})
+    return baseline_gate(v, {"rc_touch": best}, majority(results, T53),
+                         chance=_chance(results, T53))
 
 
 @_guard(T53)
@@ -259,7 +341,11 @@ def lr_improves_with_dimensionality(results: Results) -> Verdict:
     dims = variable(results, T53, "dimensions", dims=("selection",))
     d = _s(dims, selection=per["selection"]).values
     rho = np.array([sps.spearmanr(d, row).statistic for row in per.values])
-    return stats.decide_threshold(rho, bound=0.0, below=False, label="spearman_rho")
+    v = stats.decide_threshold(rho, bound=0.0, below=False, label="spearman_rho")
+    # a trend among scores at the baseline is noise: the largest group must classify
+    largest = str(per["selection"].values[int(np.argmax(d))])
+    return baseline_gate(v, {f"lr_{largest}": _s(per, selection=largest).values},
+                         majority(results, T53), chance=_chance(results, T53))
 
 
 @_guard(T53, T55)
@@ -270,10 +356,11 @@ def train_test_gap(results: Results) -> Verdict:
     for key, methods in ((T53, ("lr", "rc")), (T55, ("sfa2", "rc_sfa"))):
         per = _acc(results, key, ("method", "split"))
         for m in methods:
-            parts[m] = stats.decide_beats(_s(per, method=m, split="train").values,
-                                          _s(per, method=m, split="test").values,
-                                          higher_is_better=True, label_a="train",
-                                          label_b="test")
+            test = _s(per, method=m, split="test").values
+            parts[m] = baseline_gate(stats.decide_beats(
+                _s(per, method=m, split="train").values, test, higher_is_better=True,
+                label_a="train", label_b="test"), {f"{m}_test": test},
+                majority(results, key), chance=_chance(results, key))
     return stats.combine(parts)
 
 
@@ -285,8 +372,18 @@ def single_gait_unsupervised_better(results: Results) -> Verdict:
     n = _nodes(da)
     one = stats.per_seed(pick(da, method="rc_sfa", nodes=n, split="test")).values
     allg = _acc(results, T55, (), selection="minimal", method="rc_sfa", split="test").values
-    return _with(stats.decide_beats(one, allg, higher_is_better=True,
-                                    label_a="bound_right_only", label_b="all_gaits"), nodes=n)
+    v = _with(stats.decide_beats(one, allg, higher_is_better=True,
+                                 label_a="bound_right_only", label_b="all_gaits"), nodes=n)
+    return baseline_gate(v, {"bound_right_only": one}, majority(results, T56),
+                         chance=_chance(results, T56))
+
+
+def _with_baselines(claim: Claim) -> Claim:
+    """``claim`` reading the baselines of every artifact it requires, and saying so."""
+    return dataclasses.replace(
+        claim, reads=claim.reads + tuple(f"{k}:majority_share" for k in claim.requires),
+        summary=claim.summary + " The methods that must classify first beat the test set's "
+                                "majority-class share (rule 4), else inconclusive.")
 
 
 _T54_PROSE = ("table5_4/nodes=100/lr_extra_misclassification", "table5_4/accuracy")
@@ -416,3 +513,4 @@ CLAIMS: tuple[Claim, ...] = (
         fn=single_gait_unsupervised_better,
     ),
 )
+CLAIMS = tuple(_with_baselines(c) for c in CLAIMS)

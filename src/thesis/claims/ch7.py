@@ -475,6 +475,59 @@ def pendulum_learns(results: Results) -> Verdict:
     return verdict
 
 
+def pendulum_found(results: Results) -> Verdict:
+    """§8.1 "we were able to find a deep neural network controller for the inverted
+    pendulum from pixels": existential. A seed succeeds as in :func:`pendulum_learns`
+    (held in training within 2x the thesis's episodes, balancing in its test run);
+    reproduced when at least one seed does (k of n in the detail); not reproduced when no
+    seed does although every one ran to that limit; inconclusive while a seed stopped
+    earlier without succeeding, and (rule 11) when the test run is shorter than the
+    thesis's minute."""
+    v = pendulum_learns(results)
+    m = v.measured
+    k, n = int(m.get("n_success", 0)), int(m.get("n_seeds", 0))
+    censored = int(m.get("n_censored", 0))
+    statistic = ("existence: number of seeds that swing up and balance within 2x the "
+                 "thesis's episodes (at least one needed)")
+    if k and float(m.get("test_s", 0.0)) < MINUTE_S:
+        return stats.untestable([f"test run of {m['test_s']:g} s; the thesis's controller "
+                                 "kept the pendulum up for more than one minute"], m, statistic)
+    if k:
+        return Verdict("reproduced", m, statistic, f"found on {k} of {n} seeds")
+    if censored or n < stats.MIN_SEEDS:
+        return Verdict("inconclusive", m, statistic,
+                       f"no seed succeeded; {censored} of {n} stopped before the limit")
+    return Verdict("not_reproduced", m, statistic, f"none of {n} seeds succeeded")
+
+
+def gait_found(results: Results) -> Verdict:
+    """§8.1 "we were able to use deep neural networks to find a stable gait in only 500
+    model evaluations": existential. Reproduced when at least one seed's gait after at
+    most the thesis's 500 evaluations is at least as fast as the thesis's hand-tuned trot
+    (its "stable gait"); not reproduced when no seed's is and every run reached 500
+    evaluations; inconclusive otherwise, and whenever the episode or the controller
+    differ from the thesis's (rule 11)."""
+    budget = paper.get("quadruped_gait/evaluations").value
+    bound = paper.get("quadruped_gait/hand_tuned_speed").value
+    curve = _curve(results, GAIT, "speed", "evaluation")
+    ev = np.asarray(curve["evaluation"].values, float)
+    within = curve.isel(evaluation=np.flatnonzero(ev <= budget))
+    final = np.array([row[np.isfinite(row)][-1] if np.isfinite(row).any() else np.nan
+                      for row in within.values])
+    v = stats.decide_exists(np.where(np.isfinite(final), final >= bound, np.nan),
+                            label="gait_at_least_hand_tuned")
+    measured = {**v.measured, "best_speed_at_budget": float(np.nanmax(final))
+                if np.isfinite(final).any() else np.nan, "bound": bound,
+                "last_evaluation": float(ev.max()), "budget": budget}
+    gaps = gait_gaps(results)
+    if gaps:
+        return stats.untestable(gaps, measured, v.statistic)
+    if v.status != "reproduced" and ev.max() < budget:
+        return Verdict("inconclusive", measured, v.statistic,
+                       f"run ended after {ev.max():g} < {budget:g} evaluations; " + v.detail)
+    return Verdict(v.status, measured, v.statistic, v.detail)
+
+
 #: every timing cell of the thesis's Tab. 7.1, read from thesis.paper (never typed here)
 _T71 = (*(v.key for v in paper.table("table7_1") if v.key.endswith("/seconds")),
         "table7_1/simulated_seconds")

@@ -106,22 +106,24 @@ CLAIMS: tuple[Claim, ...] = (
         quote="By using backpropagation through time, through physics and through the "
               "renderer, we were able to find a deep neural network controller for the inverted "
               "pendulum from pixels.",
-        summary="Pendulum-cart from pixels: every seed swings up and balances within 2x 2420 "
-                "episodes and its final controller keeps it up to the end of the test run "
-                "(rule 7).",
+        summary="Existential ('we were able to find'): at least one seed swings up and "
+                "balances within 2x 2420 episodes and its final controller keeps it up to "
+                "the end of the test run; k of n seeds reported.",
         paper_keys=("pendulum_pixels/episodes",),
-        requires=(ch7.PEND,), reads=ch7.PEND_READS, fn=ch7.pendulum_learns,
+        requires=(ch7.PEND,), reads=ch7.PEND_READS, fn=ch7.pendulum_found,
     ),
     Claim(
         id="ch8.ch7_gait_in_500_evaluations", chapter=8, section="§8.1",
         quote="For a quadruped legged robot model, we were able to use deep neural networks to "
               "find a stable gait in only 500 model evaluations.",
-        summary="Speed at evaluation 500 exceeds the thesis's hand-tuned trot, 0.7 m/s "
-                "(rule 6), with the thesis's 10-s episodes and controller (rule 11).",
+        summary="Existential ('we were able to ... find a stable gait'): at least one "
+                "seed's gait after at most 500 evaluations is as fast as the thesis's "
+                "hand-tuned trot, 0.7 m/s, with the thesis's 10-s episodes and controller "
+                "(rule 11); k of n seeds reported.",
         paper_keys=("quadruped_gait/evaluations_to_stable_gait",
                     "quadruped_gait/hand_tuned_speed", "quadruped_gait/episode_s",
                     "quadruped_gait/n_params"),
         requires=(ch7.GAIT,), reads=(f"{ch7.GAIT}:speed",),
-        fn=lambda r: ch7.quadruped_gait_learns(r, "quadruped_gait/hand_tuned_speed", 0.0),
+        fn=ch7.gait_found,
     ),
 )

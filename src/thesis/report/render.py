@@ -2,7 +2,8 @@
 
 - :func:`render_figures` (one Snakemake rule per chapter): calls the chapter module's
   ``figures(results, outdir)`` and writes ``figures/<ch>/manifest.json``.
-- :func:`render_report`: reads the results, ``claims.json`` and the figure manifests and
+- :func:`render_report`: reads the results, ``claims.json``, the rules' power table
+  (``claims_power.json``, shown in the method section) and the figure manifests and
   writes ``index.html`` (self-contained: figures inlined as PNG data URIs),
   ``summary.md`` and ``tables/<ch>_<table>.html`` (for ``snakemake --report``).
 
@@ -40,6 +41,11 @@ figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}.notrun{color:#777;font-style:italic}
 footer{margin-top:3em;font-size:.8em;color:#555;border-top:1px solid #ddd}
 nav a{margin-right:1em}
+table.claims{table-layout:fixed;width:100%}
+table.claims ul{margin:.2em 0;padding-left:1.1em}
+td,th,code{overflow-wrap:anywhere}
+details summary{cursor:pointer;color:#555;font-size:.85em}
+.wide{max-width:100%;overflow-x:auto}
 """
 
 
@@ -116,7 +122,8 @@ def _table_html(t: Table) -> str:
     note = f'<p class="note">{html.escape(t.note)}</p>' if t.note else ""
     return (f'<h3 id="{html.escape(t.id)}">{html.escape(t.title)} '
             f'<small>({html.escape(t.thesis_ref)})</small></h3>'
-            f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>{note}")
+            f'<div class="wide"><table><thead><tr>{head}</tr></thead>'
+            f"<tbody>{''.join(body)}</tbody></table></div>{note}")
 
 
 def _figure_html(f: Figure) -> str:
@@ -128,16 +135,40 @@ def _figure_html(f: Figure) -> str:
 
 
 def claims_table(claims: list[dict]) -> Table:
-    """The claims as a :class:`Table` (verdict and its reading shown as text)."""
-    rows = [[c.get("id", ""), c.get("quote", ""), V.paper_text(c.get("paper")),
-             V.kv_text(c.get("measured")), c.get("statistic", ""), c.get("reading", ""),
-             c.get("detail", ""), "; ".join(V.departure_text(d)
-                                            for d in c.get("departures", []))]
+    """The claims as a :class:`Table`: sentence, verdict, the numbers in words (thesis
+    and measured, with intervals) and the departures."""
+    rows = [[c.get("id", ""), c.get("quote", ""), c.get("reading", ""), c.get("detail", ""),
+             "; ".join(V.paper_words(c.get("paper"))),
+             "; ".join(V.measured_words(c.get("measured"))),
+             "; ".join(V.departure_text(d) for d in c.get("departures", []))]
             for c in claims]
     return Table(id="claims", title="Claims of the thesis and their verdicts",
                  thesis_ref="§2.6, §3.4, §4.8, §5.5, §6.7, §7.5, §8.1",
-                 columns=["claim", "thesis says", "thesis numbers", "measured", "statistic",
-                          "verdict", "detail", "departures"], rows=rows)
+                 columns=["claim", "thesis says", "verdict", "why", "thesis numbers",
+                          "measured (95 % intervals)", "departures"], rows=rows)
+
+
+def read_power(profile: str, results_root: Path = store.RESULTS_DIR) -> dict | None:
+    """``results/<profile>/claims_power.json`` (written by ``thesis check``), or None."""
+    path = Path(results_root) / profile / "claims_power.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def _power_md(power: dict | None) -> list[str]:
+    """The power table as Markdown lines (empty when not computed)."""
+    if not power or not power.get("rows"):
+        return []
+    lines = ["### Power: probability of 'reproduced' when the claim is true", "",
+             "| rule | truth | " + " | ".join(
+                 f"{n} seeds" for n in sorted({r['n_seeds'] for r in power['rows']})) + " |"]
+    ns = sorted({r["n_seeds"] for r in power["rows"]})
+    lines.append("|---|---|" + "---|" * len(ns))
+    for rule, truth in dict.fromkeys((r["rule"], r["truth"]) for r in power["rows"]):
+        cells = {r["n_seeds"]: r["power"] for r in power["rows"]
+                 if (r["rule"], r["truth"]) == (rule, truth)}
+        lines.append(f"| {rule} | {truth} | " + " | ".join(
+            f"{100 * cells[n]:.0f} %" if n in cells else "—" for n in ns) + " |")
+    return lines + [""]
 
 
 def wall_times(profile: str, root: Path = Path("benchmarks")) -> list[tuple[str, float]]:
@@ -175,10 +206,12 @@ def _provenance_html(profile: str, results: dict) -> str:
         f"{' (dirty)' if provenance.git_dirty() else ''}; results from commit(s) "
         f"{html.escape(', '.join(commits) or 'none')}.</p>"
         f"<p>Versions: {html.escape(V.kv_text(versions))}. Host: {html.escape(provenance.host())}.</p>"
-        "<table><thead><tr><th>result</th><th>started</th><th>compute wall time [s]</th></tr>"
-        f"</thead><tbody>{''.join(rows)}</tbody></table>"
-        + ("<table><thead><tr><th>rule (snakemake benchmark)</th><th>wall time [s]</th></tr>"
-           f"</thead><tbody>{bench}</tbody></table>" if bench else "")
+        '<div class="wide"><table><thead><tr><th>result</th><th>started</th>'
+        "<th>compute wall time [s]</th></tr>"
+        f"</thead><tbody>{''.join(rows)}</tbody></table></div>"
+        + ('<div class="wide"><table><thead><tr><th>rule (snakemake benchmark)</th>'
+           "<th>wall time [s]</th></tr>"
+           f"</thead><tbody>{bench}</tbody></table></div>" if bench else "")
         + "</footer>")
 
 
@@ -193,13 +226,16 @@ def _chapter_number(ch: str) -> int:
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
-                results: dict) -> str:
+                results: dict, power: dict | None = None) -> str:
     lines = [f"# Thesis reproduction — profile `{profile}`", ""]
     lines += ["Claims: " + ", ".join(f"{k} {v}" for k, v in V.counts(claims).items()), "",
               "A verdict is *as stated* when no declared deviation from the thesis's setup is "
               "in effect in the results it rests on, and *under a declared deviation* "
               "otherwise; the deviations and the choices made where the thesis is silent are "
               "listed beneath each verdict.", ""]
+    lines += ["## Method", "", "Per seed; mean over seeds with its 95 % Student t interval; "
+              "'reproduced' only at a one-sided 2.5 % (thesis.claims.stats, calibrated by "
+              "thesis.claims.calibration).", ""] + _power_md(power)
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not s.tables and not s.figures:
@@ -231,15 +267,18 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     claims_path = Path(results_root) / profile / "claims.json"
     claims = json.loads(claims_path.read_text())["claims"] if claims_path.exists() else []
     sections = build_sections(results, outdir)
+    power = read_power(profile, results_root)
 
     nav = "".join(f'<a href="#{s.chapter}">{s.chapter}</a>' for s in sections)
     verdicts = ", ".join(f"{html.escape(k)} <b>{v}</b>" for k, v in V.counts(claims).items())
     body = [f"<h1>Incorporating Prior Knowledge into Deep Neural Network Controllers of "
             f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
-            f"<nav>{nav}<a href=#claims>claims</a><a href=#provenance>provenance</a></nav>",
+            f"<nav><a href=#method>method</a>{nav}<a href=#claims>claims</a>"
+            "<a href=#provenance>provenance</a></nav>",
             f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
             "declared deviation from the thesis's setup is in effect in the results it rests "
-            "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>"]
+            "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
+            V.method_html(power)]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:
@@ -270,7 +309,7 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     with store.atomic_path(index) as tmp:
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
-        tmp.write_text(_summary_md(profile, sections, claims, results))
+        tmp.write_text(_summary_md(profile, sections, claims, results, power))
     with store.atomic_path(outdir / "measurements.md") as tmp:
         tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index

@@ -90,29 +90,182 @@ def _deps_html(deps) -> str:
     return f"<ul>{''.join(items)}</ul>" if items else "none"
 
 
+_UNIT_WORDS = {"percent": "%", "1": "", "": "", "fraction": "", "m s-1": "m/s",
+               "rad s-1": "rad/s"}
+
+
+def unit_words(unit: str | None) -> str:
+    """A unit as a reader writes it ("percent" -> "%", "1" -> nothing)."""
+    u = str(unit or "").strip()
+    return _UNIT_WORDS.get(u, u)
+
+
+def _words(key: str) -> str:
+    return key.replace("_", " ")
+
+
+def paper_words(entries) -> list[str]:
+    """The thesis's numbers in words: ``Tab. 5.3 useful, TEST RC: 76.3 %``."""
+    out = []
+    for e in entries or []:
+        where = " ".join(str(e.get(k) or "") for k in ("table", "row")).strip()
+        col = str(e.get("column") or "")
+        if col and col != str(e.get("key", "")).rsplit("/", 1)[-1]:
+            where = f"{where}, {col}" if where else col
+        value = f"{_short(e.get('value'))} {unit_words(e.get('unit'))}".strip()
+        out.append(f"{where or e.get('key', '')}: {value}")
+    return out
+
+
+def _group(measured: dict) -> dict[str, dict]:
+    """Measured numbers by part (``"part.name"`` keys of combined verdicts; "" for none)."""
+    parts: dict[str, dict] = {}
+    for k, v in (measured or {}).items():
+        part, _, name = k.rpartition(".")
+        parts.setdefault(part, {})[name] = v
+    return parts
+
+
+def _interval_items(d: dict) -> tuple[list[str], set[str]]:
+    """(``"x: mean M, 95 % interval [L, H]"`` per interval in ``d``, the keys used)."""
+    lines, used = [], set()
+    for k in d:
+        if not k.endswith("_ci_low"):
+            continue
+        base = k[: -len("_ci_low")]
+        mean_key = f"{base}_mean" if f"{base}_mean" in d else None
+        high_key = f"{base}_ci_high"
+        if high_key not in d:
+            continue
+        used |= {k, high_key} | ({mean_key} if mean_key else set())
+        mean = f"{_short(d[mean_key])}, " if mean_key else ""
+        lines.append(f"{_words(base)}: {mean}95 % interval [{_short(d[k])}, "
+                     f"{_short(d[high_key])}]")
+    return lines, used
+
+
+def measured_words(measured: dict) -> list[str]:
+    """The numbers behind a verdict in words: per part, its intervals first (mean with its
+    95 % interval), then its seed count and the other numbers."""
+    out = []
+    for part, d in _group(measured).items():
+        intervals, used = _interval_items(d)
+        rest = []
+        if "n_seeds" in d:
+            rest.append(f"{_short(d['n_seeds']).removesuffix('.0')} seeds")
+            used.add("n_seeds")
+        rest += [f"{_words(k)} {_short(v)}" for k, v in d.items() if k not in used]
+        text = "; ".join(intervals + rest)
+        out.append(f"{_words(part)}: {text}" if part else text)
+    return out
+
+
+def _units_words(units: dict) -> str:
+    items = [f"{k.split(':')[-1].replace('_', ' ')} in {unit_words(u) or 'units of 1'}"
+             for k, u in (units or {}).items() if u not in (None, "")]
+    return "; ".join(dict.fromkeys(items))
+
+
+def _list_html(items: list[str]) -> str:
+    return "<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in items) + "</ul>"
+
+
+def _numbers_html(c: dict) -> str:
+    """Measured vs thesis numbers in words and units; the raw keys behind a fold-out."""
+    thesis = paper_words(c.get("paper"))
+    measured = measured_words(c.get("measured"))
+    units = _units_words(c.get("units"))
+    parts = []
+    if thesis:
+        parts.append("<b>thesis</b>" + _list_html(thesis))
+    if measured:
+        parts.append("<b>measured</b>" + (f' <span class="note">({html.escape(units)})'
+                                           "</span>" if units else "") + _list_html(measured))
+    if c.get("statistic"):
+        parts.append(f'<span class="note">{html.escape(c["statistic"])}</span>')
+    raw = kv_text(c.get("measured"))
+    keys = "; ".join(e.get("key", "") for e in c.get("paper") or [])
+    if raw or keys:
+        parts.append("<details><summary>raw keys</summary>"
+                     + (f"<p><b>measured</b> <code>{html.escape(raw)}</code></p>" if raw else "")
+                     + (f"<p><b>thesis</b> <code>{html.escape(keys)}</code></p>" if keys else "")
+                     + "</details>")
+    return "".join(parts) or "—"
+
+
 def claims_html(claims: list[dict], chapter: int | None = None) -> str:
-    """Table of the claims of ``chapter`` (all when None), departures beside each verdict."""
+    """Table of the claims of ``chapter`` (all when None): per claim the sentence and what
+    is checked, the verdict with its reading and reason, the measured and the thesis's
+    numbers in words (raw keys folded away) and the departures beside it."""
     sel = [c for c in claims if chapter is None or c.get("chapter") == chapter]
     if not sel:
         return ""
     rows = []
     for c in sel:
         rows.append("<tr>" + "".join([
-            f"<td>{html.escape(c.get('id', ''))}<br><span class=note>"
-            f"{html.escape(c.get('section', ''))}</span></td>",
             f"<td>{html.escape(c.get('quote', ''))}<br><span class=note>"
-            f"{html.escape(c.get('summary', ''))}</span></td>",
-            f"<td>{html.escape(paper_text(c.get('paper')))}</td>",
-            f"<td>{html.escape(kv_text(c.get('measured')))}</td>",
+            f"{html.escape(c.get('summary', ''))}<br><code>{html.escape(c.get('id', ''))}"
+            f"</code> {html.escape(c.get('section', ''))}</span></td>",
             f"<td>{status_html(c.get('status', 'not_run'))}<br><b>"
             f"{html.escape(c.get('reading', ''))}</b><br><span class=note>"
             f"{html.escape(c.get('detail', ''))}</span></td>",
+            f"<td>{_numbers_html(c)}</td>",
             f"<td>{_deps_html(c.get('departures', []))}</td>",
         ]) + "</tr>")
-    return ("<table><thead><tr><th>claim</th><th>thesis says / what is checked</th>"
-            "<th>thesis numbers</th><th>measured</th><th>verdict</th>"
+    return ('<table class="claims"><colgroup><col style="width:30%"><col style="width:22%">'
+            '<col style="width:30%"><col style="width:18%"></colgroup>'
+            "<thead><tr><th>the thesis says / what is checked</th><th>verdict</th>"
+            "<th>measured and thesis numbers, interval</th>"
             "<th>departures it rests on</th></tr></thead>"
             f"<tbody>{''.join(rows)}</tbody></table>")
+
+
+def method_html(power: dict | None) -> str:
+    """The method section: how a verdict is decided, and the power of the rules
+    (``claims_power.json``, :func:`thesis.claims.calibration.power_table`)."""
+    text = (
+        "<p>Every claim is decided per seed (the unit of replication) by one set of rules "
+        "(<code>thesis.claims.stats</code>). An interval is the mean over seeds with its 95 % "
+        "Student t interval; a claim is <i>reproduced</i> only when the one-sided 2.5 % "
+        "test behind that interval says so: A beats B when the interval of the paired "
+        "advantage lies above 0, A is like B when the interval of the difference lies "
+        "inside the margin, X is beyond a bound when its interval is. The interval was "
+        "chosen on a calibration simulation alone (<code>thesis.claims.calibration</code>, "
+        "3, 5 and 10 seeds, normal, exponential and heavy-tailed per-seed laws): the "
+        "bootstrap interval used before said 'reproduced' far more often than 2.5 % under "
+        "no difference, and rank or sign-flip tests cannot reach 2.5 % below 6 seeds. It "
+        "assumes independent seeds and per-seed values (paired differences) roughly "
+        "symmetric about their mean. 'In most runs' is an exact binomial test against "
+        "1/2 (5 seeds or fewer can never show it: inconclusive); an existential sentence "
+        "('an attractor was found') holds when one seed shows it, the rate beside it; a "
+        "claim that holds when some configuration does corrects for looking at all of "
+        "them (Holm); a claim about classification quality needs the methods to beat the "
+        "test set's majority-class share first. Fewer than 3 seeds, or a profile smaller "
+        "than the thesis's setup, give <i>inconclusive</i>.</p>")
+    if not power or not power.get("rows"):
+        return ('<h2 id="method">Method: how a verdict is decided</h2>' + text
+                + '<p class="notrun">power table not computed (run <code>thesis check</code>)'
+                  "</p>")
+    rows = power["rows"]
+    cols = list(dict.fromkeys((r["rule"], r["truth"]) for r in rows))
+    ns = sorted({int(r["n_seeds"]) for r in rows})
+    cell = {(r["rule"], r["truth"], int(r["n_seeds"])): r["power"] for r in rows}
+    head = "".join(f"<th>{html.escape(_RULE_WORDS.get(rule, rule))}<br>"
+                   f"<span class=note>{html.escape(truth)}</span></th>" for rule, truth in cols)
+    body = "".join("<tr><td>" + str(n) + "</td>" + "".join(
+        f"<td>{100 * cell[(rule, truth, n)]:.0f} %</td>" if (rule, truth, n) in cell
+        else "<td>—</td>" for rule, truth in cols) + "</tr>" for n in ns)
+    return ('<h2 id="method">Method: how a verdict is decided</h2>' + text
+            + "<h3>Power: probability of 'reproduced' when the claim is true</h3>"
+            '<div class="wide"><table><thead><tr><th>seeds</th>' + head + "</tr></thead><tbody>"
+            + body + "</tbody></table></div>"
+            + f'<p class="note">Simulated with {power.get("reps")} draws per cell (seeded), '
+              "normal per-seed differences in standard deviations; 'in most runs' exact. "
+              f"Nominal false-'reproduced' rate {100 * power.get('nominal', 0.025):g} %.</p>")
+
+
+_RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
+               "rule10_majority": "in most runs"}
 
 
 def counts(claims: list[dict]) -> dict[str, int]:
@@ -149,10 +302,11 @@ def departures_html(deps: list[dict]) -> str:
                 d["thesis"], d["ours"], d["why"],
                 kv_text(d.get("config")) or "—",
                 paper_text(d.get("paper")) or "—", ", ".join(d["results"]))) + "</tr>")
-    return ("<h3>Departures from the thesis</h3><table><thead><tr><th>id</th><th>kind</th>"
+    return ('<h3>Departures from the thesis</h3><div class="wide"><table><thead><tr>'
+            "<th>id</th><th>kind</th>"
             "<th>the thesis</th><th>the pipeline</th><th>why</th><th>config values</th>"
             "<th>thesis values</th><th>results</th></tr></thead>"
-            f"<tbody>{''.join(rows)}</tbody></table>")
+            f"<tbody>{''.join(rows)}</tbody></table></div>")
 
 
 def summary_lines(claims: list[dict], chapter: int) -> list[str]:

@@ -13,6 +13,12 @@ profile into ``data/synthetic/puppy/<profile>.h5``; every experiment here reads 
 * ``fig5_3``: RC trained on bound right at 1 Hz, confusion matrices on the other
   frequencies (bound right) and on the other gaits (1 Hz).
 
+Every accuracy carries its baselines, computed from the labels of the sets it is scored
+on: ``majority_share`` (seed, split; Fig. 5.3: seed, test), the share of the time steps
+of the most frequent terrain (what a classifier that always answers it scores; the test
+sets hold the remaining trials, so they are unbalanced), and ``chance``, 100 / the number
+of terrains.
+
 The classifiers are small dense linear algebra (matrices of at most a few hundred
 columns): every experiment runs with one BLAS thread (``threadpoolctl``), which was ~10x
 faster than OpenBLAS's threads on a shared two-core machine, and leaves Snakemake to run
@@ -164,9 +170,11 @@ def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]
     params = {p: np.full((len(seeds), n), np.nan) for p in
               ("pca_rate", "leak", "input_scaling", "spectral_radius")}
     evals = np.zeros((len(seeds), n))
+    majority = np.full((len(seeds), 2, 2), np.nan)  # seed, fold, split
     tuned: dict = {}
     for si, seed in enumerate(seeds):
         study = _Study(ctx, recs, signals, trials, seed)
+        majority[si] = _study_majority(study, len(REC.TERRAINS))
         for ci, (group, method, nodes) in enumerate(cells):
             draw = _draw(ctx, nodes, seed) if method not in ("lr", "sfa2") else None
             tag = f"{group}/{method}/{nodes}"
@@ -183,7 +191,23 @@ def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]
             acc[si, ci] = _verify(ctx, study, group, method, res["best"], draw)
             ctx.log.info("%s seed %d %s: train %.1f %%, test %.1f %%", ctx.key, seed, tag,
                          acc[si, ci, :, 0].mean(), acc[si, ci, :, 1].mean())
-    return dict(acc=acc, cv=cv, params=params, evals=evals, seeds=seeds, recs=recs)
+    return dict(acc=acc, cv=cv, params=params, evals=evals, seeds=seeds, recs=recs,
+                majority=majority)
+
+
+def majority_share(segments, terrain: np.ndarray, n_terrains: int) -> float:
+    """Percent of the time steps of ``segments`` that belong to their most frequent
+    terrain: the accuracy of always answering that terrain (§5.3.2's score of a constant
+    classifier). ``terrain``: (n_trials,) label per trial."""
+    counts = np.bincount([int(terrain[s.trial]) for s in segments],
+                         weights=[s.length for s in segments], minlength=n_terrains)
+    return 100.0 * float(counts.max() / counts.sum()) if counts.sum() else float("nan")
+
+
+def _study_majority(study: _Study, n_terrains: int) -> np.ndarray:
+    """(2 folds, 2 splits) majority-class share of each verification fold's train/test set."""
+    return np.array([[majority_share(segs, study.recs.terrain, n_terrains)
+                      for segs in (split.train, split.test)] for split in study.verification])
 
 
 def _pct(values, long_name: str) -> tuple:
@@ -212,6 +236,12 @@ def _grid_dataset(g: dict, dims: list[str], coords: dict, shape: tuple, ref: str
         unit = "1"
         ds[k] = (d, v.reshape((s,) + shape), {"units": unit, "long_name": f"tuned {k} "
                                               "(NaN: not a parameter of the method)"})
+    ds["majority_share"] = (("seed", "split"), g["majority"].mean(axis=1), {
+        "units": "percent", "long_name": "time steps of the set's most frequent terrain, mean "
+                                        "of the two verification folds: the accuracy of a "
+                                        "classifier that always answers that terrain"})
+    ds["chance"] = ((), 100.0 / len(REC.TERRAINS), {
+        "units": "percent", "long_name": "chance level, 1 / number of terrains"})
     ds["cma_evaluations"] = (d, g["evals"].reshape((s,) + shape), {
         "units": "1", "long_name": "CMA-ES evaluations spent on this seed (0: reused the "
                                    "first seed's tuning)"})
@@ -354,6 +384,14 @@ def fig5_3(ctx: RunContext) -> xr.Dataset:
                                         "correctly (NaN: terrain absent from the test)"})
     ds["train_trials"] = (("seed", "true"), n_train, {
         "units": "1", "long_name": "bound-right 1 Hz training trials of the terrain"})
+    steps = conf.sum(-1).astype(float)  # (seed, test, true) time steps per true terrain
+    with np.errstate(invalid="ignore"):
+        ds["majority_share"] = (("seed", "test"), 100.0 * steps.max(-1) / steps.sum(-1), {
+            "units": "percent", "long_name": "time steps of the test's most frequent "
+                                            "terrain: the accuracy of always answering it"})
+    ds["chance"] = ((), 100.0 / nt, {
+        "units": "percent", "long_name": "chance level, 1 / number of terrains (a constant "
+                                        "classifier's mean recall over the terrains)"})
     ds.attrs.update(thesis_ref="Fig. 5.3", seeds=seeds, selection=group, nodes=nodes,
                     min_train_trials=int(cfg["min_train_trials"]))
     return ds

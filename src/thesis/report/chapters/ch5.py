@@ -3,8 +3,10 @@ the invented model and terrain parameters, from ``results/<profile>/ch5/*.nc``.
 
 Thesis numbers come from :mod:`thesis.paper`; reproduced numbers are read from the
 datasets (mean ± standard deviation over seeds of the test/train accuracy, percent of time
-steps); a missing dataset shows "not run". Tab. 5.4 is an image in the thesis, so its
-prose statements stand beside the reproduced table.
+steps); a missing dataset shows "not run". Every table shows the test set's majority-class
+share and chance beside the accuracies (the datasets' ``majority_share`` and ``chance``).
+Tab. 5.4 is an image in the thesis, so its prose statements stand beside the reproduced
+table.
 """
 
 from __future__ import annotations
@@ -44,8 +46,27 @@ def _note(ds) -> str:
     return f"{out}, {len(stopped)} trial(s) stopped when the robot turned over."
 
 
+BASELINE_COLUMNS = ["TEST majority share", "chance"]
+BASELINE_NOTE = ("Baselines: the test set's majority-class share (the accuracy of always "
+                 "answering its most frequent terrain; the test sets hold the remaining "
+                 "trials, so they are unbalanced) and chance (1 / number of terrains); a "
+                 "claim about classification quality needs the methods to beat the majority "
+                 "share first. ")
+
+
+def baselines(ds, split: str = "test", **coords) -> list[str]:
+    """[majority share (mean ± sd over seeds), chance] of a ch5 dataset [%]; not run when
+    ``ds`` is None or lacks them."""
+    if ds is None or "majority_share" not in ds or "chance" not in ds:
+        return [NOT_RUN, NOT_RUN]
+    share = _sel(ds["majority_share"], **({"split": split} if "split" in
+                                          ds["majority_share"].dims else {}), **coords)
+    return [_ms(share), fmt(float(ds["chance"]))]
+
+
 def _two_method(results, key, table, ref, title, methods, labels) -> Table:
     ds = results.get(f"ch5/{key}")
+    base = baselines(ds)
     rows = []
     for s in SEL:
         row = [s]
@@ -54,11 +75,12 @@ def _two_method(results, key, table, ref, title, methods, labels) -> Table:
                 row.append(_paper(key, "accuracy", selection=s, split=split, method=m))
                 row.append(NOT_RUN if ds is None else _ms(
                     _sel(ds["accuracy"], selection=s, method=m, split=split)))
-        rows.append(row)
+        rows.append(row + base)
     cols = ["group"] + [f"{split} {labels[m]} {who}" for split in ("TRAIN", "TEST")
-                        for m in methods for who in ("thesis", "ours")]
+                        for m in methods for who in ("thesis", "ours")] + BASELINE_COLUMNS
     return Table(id=key, title=title, thesis_ref=ref, columns=cols, rows=rows,
-                 note="Accuracy [% of time steps], mean ± sd over seeds. " + _note(ds))
+                 note="Accuracy [% of time steps], mean ± sd over seeds. " + BASELINE_NOTE
+                      + _note(ds))
 
 
 def table5_4(results) -> Table:
@@ -70,10 +92,9 @@ def table5_4(results) -> Table:
             for n in ds["nodes"].values:
                 rows.append([str(s), str(int(n)), lr] + [
                     _ms(_sel(ds["accuracy"], selection=s, method=m, nodes=n, split=split))
-                    for m in ("elm", "rc") for split in ("train", "test")])
+                    for m in ("elm", "rc") for split in ("train", "test")] + baselines(ds))
     else:
-        rows = [[s, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN, NOT_RUN]
-                for s in ("touch", "minimal")]
+        rows = [[s] + [NOT_RUN] * 8 for s in ("touch", "minimal")]
     prose = ("Thesis (the table is an image; §5.4.1.2): LR has 'over 10% more "
              "misclassifications' than any technique with 100 hidden nodes; on touch 'RC "
              "outperforms ELM roughly 10%'; on minimal 'RC and ELM achieve virtually the same "
@@ -81,16 +102,19 @@ def table5_4(results) -> Table:
     return Table(id="table5_4", title="RC vs leaky ELM vs LR by hidden nodes",
                  thesis_ref="Tab. 5.4",
                  columns=["group", "nodes", "LR test", "ELM train", "ELM test", "RC train",
-                          "RC test"], rows=rows, note=prose + _note(ds))
+                          "RC test"] + BASELINE_COLUMNS, rows=rows,
+                 note=prose + BASELINE_NOTE + _note(ds))
 
 
 def table5_6(results) -> Table:
     ds = results.get("ch5/table5_6")
     rows = []
     for split in ("train", "test"):
+        base = baselines(ds, split=split)
         rows.append([split, "SFA2", _paper("table5_6", "accuracy", selection="minimal",
                                            split=split, method="sfa2"),
-                     NOT_RUN if ds is None else _ms(_sel(ds["sfa2_accuracy"], split=split))])
+                     NOT_RUN if ds is None else _ms(_sel(ds["sfa2_accuracy"], split=split))]
+                    + base)
         for m, lab in (("elm_sfa", "ELM-SFA"), ("rc_sfa", "RC-SFA")):
             nodes = [50, 100, 200] if ds is None else [int(n) for n in ds["nodes"].values]
             for n in nodes:
@@ -98,10 +122,11 @@ def table5_6(results) -> Table:
                                                            split=split))
                 rows.append([split, f"{lab} {n}N", _paper(
                     "table5_6", "accuracy", selection="minimal", split=split, method=m,
-                    nodes=n), ours])
+                    nodes=n), ours] + base)
     return Table(id="table5_6", title="Unsupervised, minimal group, bound right only",
-                 thesis_ref="Tab. 5.6", columns=["split", "method", "thesis", "ours"],
-                 rows=rows, note="Accuracy [% of time steps]. " + _note(ds))
+                 thesis_ref="Tab. 5.6", columns=["split", "method", "thesis", "ours",
+                                                 "majority share of the split", "chance"],
+                 rows=rows, note="Accuracy [% of time steps]. " + BASELINE_NOTE + _note(ds))
 
 
 def setup_table(results) -> Table:
@@ -175,6 +200,11 @@ def figures(results, outdir: Path) -> list[Figure]:
                              for tr in ds["true"].values
                              if np.isfinite(float(rec.sel(test=t, true=tr))))
         for t in ds["test"].values)
+    if "majority_share" in ds and "chance" in ds:
+        note += ". Baselines [%]: majority-class share, " + "; ".join(
+            f"{t} test {_ms(ds['majority_share'].sel(test=t))}" for t in ds["test"].values)
+        note += (f"; chance {fmt(float(ds['chance']))} (a constant classifier's mean recall "
+                 "over the terrains scored is 100 / their number)")
     note += (". Thesis: frequency test high for S, 'complete misclassification' for F (2 "
              "training trials); gait test poor for F and S, 'fairly decent' for L.")
     return [Figure(id="fig5_3", title="RC generalisation: confusion matrices",

@@ -1,0 +1,318 @@
+"""Calibration and power of the decision rules of :mod:`thesis.claims.stats`, by simulation.
+
+A rule is *calibrated* when, under its null (no true difference; a mean exactly at the
+bound or the margin; an event that occurs in exactly half the runs; a configuration that
+fails), it says "reproduced" at most as often as its nominal one-sided level,
+:data:`thesis.claims.stats.ONE_SIDED` (2.5 %, the lower tail of a two-sided 95 % interval).
+:func:`false_reproduced` simulates each rule's null with per-seed values drawn from one of
+:data:`LAWS` and counts how often the rule calls it reproduced; :func:`calibration_table`
+does so per rule, seed count and law. The interval of rules 3-6 was chosen on this table
+alone (see the module text of :mod:`thesis.claims.stats`).
+
+:func:`power_table` gives the other side: the probability of "reproduced" when the claim
+is true, per seed count and true effect (in standard deviations of the per-seed
+difference), for rules 4, 5 and 10. ``thesis check`` writes it to
+``results/<profile>/claims_power.json`` and the report shows it in its method section.
+
+Every simulation draws from a generator seeded by its arguments, so the tables are
+deterministic. ``rules`` defaults to :mod:`thesis.claims.stats` and may be any module with
+the same decision helpers (the calibration test and the issue's before/after tables run it
+on an earlier version too).
+"""
+
+from __future__ import annotations
+
+import types
+import zlib
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from scipy import integrate, optimize
+from scipy import stats as sps
+
+from thesis.claims import stats
+
+#: Seed counts the rules are calibrated at (the profiles run 3 to 10 seeds).
+SEED_COUNTS = (3, 5, 10)
+#: Root seed of every simulation here.
+SEED = 20240601
+#: Particles and generations of the simulated rule-9 runs (small: the per-seed effect is an
+#: average over them, which only makes it closer to normal than the thesis's 20 x 13).
+RUN_GENERATIONS = 5
+RUN_PARTICLES = 10
+#: True effects of the power table, in standard deviations of the per-seed difference.
+EFFECTS = (0.5, 1.0, 2.0)
+#: True event rates of rule 10's power rows.
+RATES = (0.75, 0.9, 1.0)
+
+#: Per-seed laws, as frozen scipy distributions: normal, skewed (exponential) and
+#: heavy-tailed (Student t with 2 degrees of freedom: infinite variance).
+LAWS: dict[str, sps.rv_continuous] = {
+    "normal": sps.norm(),
+    "exponential": sps.expon(),
+    "t2": sps.t(2),
+}
+
+
+def _rng(*key: object) -> np.random.Generator:
+    """Generator seeded by :data:`SEED` and ``key`` (stable across processes)."""
+    return np.random.default_rng([SEED, zlib.crc32(repr(key).encode())])
+
+
+def _draw(law: str, rng: np.random.Generator, shape) -> np.ndarray:
+    """Draws of ``LAWS[law]`` of shape ``shape``, shifted to mean 0."""
+    dist = LAWS[law]
+    return dist.rvs(size=shape, random_state=rng) - dist.mean()
+
+
+def shift_for_a12(law: str, a12: float) -> float:
+    """The shift d with P(X + d > Y) = ``a12`` for X, Y independent draws of ``law``."""
+    dist = LAWS[law]
+
+    def a(d: float) -> float:
+        val, _ = integrate.quad(lambda y: dist.pdf(y) * dist.sf(y - d), -np.inf, np.inf,
+                                limit=200)
+        return val - a12
+
+    return float(optimize.brentq(a, -20.0, 20.0, xtol=1e-10))
+
+
+# ------------------------------------------------------------------ one null per rule
+def _null_beats(rules, law, n, rng):
+    a, b = _draw(law, rng, n), _draw(law, rng, n)
+    return rules.decide_beats(a, b, higher_is_better=True).status
+
+
+def _null_equivalent(rules, law, n, rng):
+    # true difference exactly at the margin: A's per-seed values one margin above B's
+    margin = 1.0
+    a, b = _draw(law, rng, n) + margin, _draw(law, rng, n)
+    return rules.decide_equivalent(a - b, margin=margin).status
+
+
+def _null_threshold(below: bool):
+    def null(rules, law, n, rng):
+        # mean exactly at the bound; the law's skew points up, so for "below" it points
+        # away from the claimed side and for "above" towards it
+        return rules.decide_threshold(_draw(law, rng, n), bound=0.0, below=below).status
+    return null
+
+
+def _null_censored(rules, law, n, rng):
+    # both methods' true costs from one law; a run stops at the budget (the law's 70th
+    # percentile) and then reports what it spent, right-censored
+    budget = float(LAWS[law].ppf(0.7) - LAWS[law].mean())
+    ca, cb = _draw(law, rng, n), _draw(law, rng, n)
+    ad, bd = ca <= budget, cb <= budget
+    return rules.decide_fewer_censored(np.minimum(ca, budget), ad, np.minimum(cb, budget),
+                                       bd).status
+
+
+def _null_runs_better(rules, law, n, rng):
+    shape = (n, RUN_GENERATIONS, RUN_PARTICLES)
+    a, b = _draw(law, rng, shape), _draw(law, rng, shape)
+    return rules.decide_runs_over_generations(a, b, bound=stats.ALPHA, claim="better").status
+
+
+_SHIFTS: dict[str, float] = {}
+
+
+def _null_not_worse(rules, law, n, rng):
+    # per-particle shift that makes the true A12 - 0.5 exactly -SMALL_A_EFFECT
+    if law not in _SHIFTS:
+        _SHIFTS[law] = shift_for_a12(law, 0.5 - stats.SMALL_A_EFFECT)
+    shape = (n, RUN_GENERATIONS, RUN_PARTICLES)
+    a, b = _draw(law, rng, shape) + _SHIFTS[law], _draw(law, rng, shape)
+    return rules.decide_not_worse(a, b).status
+
+
+def _null_majority(rules, law, n, rng):
+    # the event occurs in exactly half the runs: the per-seed value is above its median
+    x = _draw(law, rng, n)
+    return rules.decide_majority(x > LAWS[law].median() - LAWS[law].mean()).status
+
+
+#: rule name -> null simulator ``(rules, law, n, rng) -> status``.
+NULLS: dict[str, Callable] = {
+    "rule4_beats": _null_beats,
+    "rule5_equivalent": _null_equivalent,
+    "rule6_above": _null_threshold(below=False),
+    "rule6_below": _null_threshold(below=True),
+    "rule4_censored": _null_censored,
+    "rule9_better": _null_runs_better,
+    "rule9_not_worse": _null_not_worse,
+    "rule10_majority": _null_majority,
+}
+
+
+def false_reproduced(rule: str, n: int, law: str, *, reps: int,
+                     rules: types.ModuleType = stats) -> float:
+    """Share of ``reps`` simulated nulls of ``rule`` (a key of :data:`NULLS`) with ``n``
+    seeds and per-seed law ``law`` that ``rules`` calls "reproduced"."""
+    rng = _rng("null", rule, n, law)
+    hits = sum(NULLS[rule](rules, law, n, rng) == "reproduced" for _ in range(reps))
+    return hits / reps
+
+
+def monte_carlo_bound(level: float, reps: int, k: float = 3.0) -> float:
+    """``level`` plus ``k`` binomial standard errors of a rate estimated from ``reps``."""
+    return level + k * np.sqrt(level * (1 - level) / reps)
+
+
+def calibration_table(*, reps: int, rules: types.ModuleType = stats,
+                      rule_names: Sequence[str] = tuple(NULLS),
+                      ns: Sequence[int] = SEED_COUNTS,
+                      laws: Sequence[str] = tuple(LAWS)) -> list[dict]:
+    """False-"reproduced" rate per rule, seed count and law: a list of
+    ``{"rule", "n_seeds", "law", "rate", "reps", "nominal"}``."""
+    return [{"rule": r, "n_seeds": n, "law": law, "reps": reps, "nominal": stats.ONE_SIDED,
+             "rate": false_reproduced(r, n, law, reps=reps, rules=rules)}
+            for r in rule_names for n in ns for law in laws]
+
+
+# ------------------------------------------------------------------ power
+def _power_beats(n: int, effect: float, reps: int) -> float:
+    rng = _rng("power", "rule4", n, effect)
+    d = rng.normal(effect, 1.0, (reps, n))
+    return float(np.mean([stats.decide_beats(x, np.zeros(n), higher_is_better=True).status
+                          == "reproduced" for x in d]))
+
+
+def _power_equivalent(n: int, margin: float, reps: int) -> float:
+    rng = _rng("power", "rule5", n, margin)
+    d = rng.normal(0.0, 1.0, (reps, n))
+    return float(np.mean([stats.decide_equivalent(x, margin=margin).status == "reproduced"
+                          for x in d]))
+
+
+def _power_majority(n: int, rate: float) -> float:
+    """Exact: the probability that rule 10 reproduces with ``n`` seeds at event rate
+    ``rate`` (sum over the counts it reproduces at)."""
+    ks = [k for k in range(n + 1)
+          if stats.decide_majority([1.0] * k + [0.0] * (n - k)).status == "reproduced"]
+    return float(sum(sps.binom.pmf(k, n, rate) for k in ks))
+
+
+def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
+                effects: Sequence[float] = EFFECTS, rates: Sequence[float] = RATES) -> dict:
+    """Probability of "reproduced" when the claim holds, per seed count (deterministic).
+
+    Returns ``{"nominal": ..., "reps": ..., "rows": [...]}``; each row has ``rule``,
+    ``n_seeds``, ``effect`` (what is true, in words and number) and ``power``:
+
+    - rule 4 ("A beats B"): normal per-seed differences with mean ``effect`` sd;
+    - rule 5 ("A is like B"): true difference 0, margin ``effect`` sd;
+    - rule 10 ("in most runs"): event rate ``rate`` (exact binomial sum).
+    Rule 6 has rule 4's power (one-sample t on the values minus the bound).
+    """
+    rows = []
+    for n in ns:
+        for e in effects:
+            rows.append({"rule": "rule4_beats", "n_seeds": n, "effect": e,
+                         "truth": f"advantage of {e:g} sd", "power": _power_beats(n, e, reps)})
+        for e in effects:
+            rows.append({"rule": "rule5_equivalent", "n_seeds": n, "effect": e,
+                         "truth": f"no difference, margin {e:g} sd",
+                         "power": _power_equivalent(n, e, reps)})
+        for r in rates:
+            rows.append({"rule": "rule10_majority", "n_seeds": n, "effect": r,
+                         "truth": f"event rate {r:g}", "power": _power_majority(n, r)})
+    return {"nominal": stats.ONE_SIDED, "reps": reps, "seed": SEED,
+            "interval": stats.INTERVAL_METHOD, "rows": rows}
+
+
+# ------------------------------------------------------------------ choosing the interval
+def _claims_t(x: np.ndarray) -> np.ndarray:
+    """(reps,) whether the Student t interval of each row of ``x`` lies above 0."""
+    return np.array([stats.mean_interval(r).low > 0 for r in x])
+
+
+def _claims_bootstrap(method: str):
+    def claims(x: np.ndarray) -> np.ndarray:
+        out = []
+        for r in x:
+            ci = stats.bootstrap_mean(r)
+            if method == "percentile" and ci.method == "BCa":
+                ci = _percentile(r)
+            out.append(ci.low > 0)
+        return np.array(out)
+    return claims
+
+
+def _percentile(r: np.ndarray) -> stats.Interval:
+    res = sps.bootstrap((r,), np.mean, confidence_level=stats.CONFIDENCE,
+                        n_resamples=stats.N_RESAMPLES, method="percentile",
+                        rng=np.random.default_rng(stats.BOOTSTRAP_SEED))
+    ci = res.confidence_interval
+    return stats.Interval(float(r.mean()), float(ci.low), float(ci.high), r.size, "percentile")
+
+
+def _claims_sign_flip(x: np.ndarray) -> np.ndarray:
+    """Exact sign-flip permutation test of the mean (all 2^n sign patterns), one-sided."""
+    n = x.shape[1]
+    signs = 1 - 2 * ((np.arange(2 ** n)[:, None] >> np.arange(n)) & 1)  # (2^n, n)
+    perm = signs @ x.T  # (2^n, reps) sums under every sign pattern
+    p = (perm >= x.sum(axis=1)[None, :] - 1e-12).mean(axis=0)
+    return p <= stats.ONE_SIDED
+
+
+def _claims_wilcoxon(x: np.ndarray) -> np.ndarray:
+    """Exact one-sided Wilcoxon signed-rank test (scipy, vectorised over rows)."""
+    p = sps.wilcoxon(x, alternative="greater", axis=1, method="exact").pvalue
+    return np.asarray(p) <= stats.ONE_SIDED
+
+
+#: Candidate intervals/tests of rules 3-6: name -> (reps, n) values -> (reps,) "reproduced".
+CANDIDATES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "bootstrap_bca": _claims_bootstrap("BCa"),
+    "bootstrap_percentile": _claims_bootstrap("percentile"),
+    "student_t": _claims_t,
+    "sign_flip": _claims_sign_flip,
+    "wilcoxon": _claims_wilcoxon,
+}
+
+
+def _candidate_nulls(law: str, n: int, reps: int) -> dict[str, np.ndarray]:
+    """(reps, n) per-seed values of the nulls the candidates are judged on: rule 4's
+    paired differences of two draws of one law, and rule 6's values of the law with the
+    mean at the bound, skew pointing towards and away from the claimed side."""
+    rng = _rng("candidates", law, n)
+    x = _draw(law, rng, (reps, n))
+    return {"rule4_paired": _draw(law, rng, (reps, n)) - _draw(law, rng, (reps, n)),
+            "rule6_skew_towards": x, "rule6_skew_away": -x}
+
+
+def compare_candidates(*, reps: int, candidates: Sequence[str] = tuple(CANDIDATES),
+                       ns: Sequence[int] = SEED_COUNTS,
+                       laws: Sequence[str] = tuple(LAWS)) -> list[dict]:
+    """False-"reproduced" rate of every candidate under each null, per seed count and
+    law, and its power with normal differences of 1 sd: rows ``{"candidate", "null",
+    "n_seeds", "law", "rate"}`` (``null`` ``"power_1sd"`` for the power rows)."""
+    rows = []
+    for n in ns:
+        power_x = _rng("candidates", "power", n).normal(1.0, 1.0, (reps, n))
+        for c in candidates:
+            fn = CANDIDATES[c]
+            for law in laws:
+                for null, x in _candidate_nulls(law, n, reps).items():
+                    rows.append({"candidate": c, "null": null, "n_seeds": n, "law": law,
+                                 "rate": float(fn(x).mean())})
+            rows.append({"candidate": c, "null": "power_1sd", "n_seeds": n, "law": "normal",
+                         "rate": float(fn(power_x).mean())})
+    return rows
+
+
+def choose_candidate(rows: list[dict], reps: int, *,
+                     nulls: Sequence[str] = ("rule4_paired",)) -> str:
+    """The candidate with the highest mean power (``power_1sd`` rows) among those whose
+    false rate stays within :func:`monte_carlo_bound` of :data:`stats.ONE_SIDED` under
+    every ``nulls`` row (every seed count and law); ValueError when none does."""
+    bound = monte_carlo_bound(stats.ONE_SIDED, reps)
+    names = sorted({r["candidate"] for r in rows})
+    ok = [c for c in names if all(r["rate"] <= bound for r in rows
+                                  if r["candidate"] == c and r["null"] in nulls)]
+    if not ok:
+        raise ValueError("no candidate is calibrated")
+    power = {c: np.mean([r["rate"] for r in rows
+                         if r["candidate"] == c and r["null"] == "power_1sd"]) for c in ok}
+    return max(ok, key=lambda c: power[c])
