@@ -16,8 +16,9 @@ import pytest
 
 from thesis.physics import Builder, step, terrain
 
+from .test_friction import DT, _velocities  # (n, 3) velocity of body 0 after each step
+
 G = 9.81
-DT = 0.005
 HEADINGS = (0.0, 30.0, 45.0, 90.0, 135.0)
 
 
@@ -45,14 +46,6 @@ def _box(mu=0.3, vel=(0.0, 0.0, 0.0), yaw=0.0, direction=None, coefficients=None
                                  direction=direction)
     b.set_velocity("box", vel)
     return b.build(dtype)
-
-
-def _velocities(m, s, n):
-    """(n, 3) linear velocity of body 0 after each of ``n`` steps."""
-    def body(s, _):
-        s = step(m, s, jnp.zeros((0,), s.pos.dtype))
-        return s, s.vel[0]
-    return np.asarray(jax.jit(lambda s: jax.lax.scan(body, s, None, length=n)[1])(s))
 
 
 def _heading(deg):

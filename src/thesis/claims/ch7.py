@@ -397,19 +397,34 @@ def quadruped_gait_learns(results: Results,
     whenever the episode or the controller differ from the thesis's (rule 11)."""
     budget = paper.get("quadruped_gait/evaluations").value
     bound = paper.get(bound_key).value * (1 - tolerance)
+    final, last = _speed_at_budget(results, budget)
+    v = stats.decide_threshold(final, bound=bound, below=False, label="speed_at_budget")
+    measured = {**v.measured, "last_evaluation": last, "budget": budget}
+    return _within_budget(results, v, measured, last, budget)
+
+
+def _speed_at_budget(results: Results, budget: float) -> tuple[np.ndarray, float]:
+    """(per-seed speed [m/s] at the last evaluation within ``budget``, the run's last
+    evaluation) of the BPTT gait (Fig. 7.5)."""
     curve = _curve(results, GAIT, "speed", "evaluation")
     ev = np.asarray(curve["evaluation"].values, float)
     within = curve.isel(evaluation=np.flatnonzero(ev <= budget))
     final = np.array([row[np.isfinite(row)][-1] if np.isfinite(row).any() else np.nan
                       for row in within.values])
-    v = stats.decide_threshold(final, bound=bound, below=False, label="speed_at_budget")
-    measured = {**v.measured, "last_evaluation": float(ev.max()), "budget": budget}
+    return final, float(ev.max())
+
+
+def _within_budget(results: Results, v: Verdict, measured: dict, last: float,
+                   budget: float) -> Verdict:
+    """``v`` for a gait claim with an evaluation budget: untestable where the setup
+    differs from the thesis's (rule 11), inconclusive where the run stopped before the
+    budget without the claim holding."""
     gaps = gait_gaps(results)
     if gaps:
         return stats.untestable(gaps, measured, v.statistic)
-    if v.status != "reproduced" and ev.max() < budget:
+    if v.status != "reproduced" and last < budget:
         return Verdict("inconclusive", measured, v.statistic,
-                       f"run ended after {ev.max():g} < {budget:g} evaluations; " + v.detail)
+                       f"run ended after {last:g} < {budget:g} evaluations; " + v.detail)
     return Verdict(v.status, measured, v.statistic, v.detail)
 
 
@@ -509,23 +524,13 @@ def gait_found(results: Results) -> Verdict:
     differ from the thesis's (rule 11)."""
     budget = paper.get("quadruped_gait/evaluations").value
     bound = paper.get("quadruped_gait/hand_tuned_speed").value
-    curve = _curve(results, GAIT, "speed", "evaluation")
-    ev = np.asarray(curve["evaluation"].values, float)
-    within = curve.isel(evaluation=np.flatnonzero(ev <= budget))
-    final = np.array([row[np.isfinite(row)][-1] if np.isfinite(row).any() else np.nan
-                      for row in within.values])
+    final, last = _speed_at_budget(results, budget)
     v = stats.decide_exists(np.where(np.isfinite(final), final >= bound, np.nan),
                             label="gait_at_least_hand_tuned")
     measured = {**v.measured, "best_speed_at_budget": float(np.nanmax(final))
                 if np.isfinite(final).any() else np.nan, "bound": bound,
-                "last_evaluation": float(ev.max()), "budget": budget}
-    gaps = gait_gaps(results)
-    if gaps:
-        return stats.untestable(gaps, measured, v.statistic)
-    if v.status != "reproduced" and ev.max() < budget:
-        return Verdict("inconclusive", measured, v.statistic,
-                       f"run ended after {ev.max():g} < {budget:g} evaluations; " + v.detail)
-    return Verdict(v.status, measured, v.statistic, v.detail)
+                "last_evaluation": last, "budget": budget}
+    return _within_budget(results, v, measured, last, budget)
 
 
 #: every timing cell of the thesis's Tab. 7.1, read from thesis.paper (never typed here)

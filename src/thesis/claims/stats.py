@@ -169,19 +169,28 @@ def _finite(values: Sequence[float] | np.ndarray) -> np.ndarray:
     return x[np.isfinite(x)]
 
 
+def _trivial_interval(x: np.ndarray) -> Interval | None:
+    """The interval of finite values ``x`` where no method is needed: none (no values),
+    a single value, or a zero-width one (all equal); None otherwise."""
+    if x.size == 0:
+        return Interval(np.nan, np.nan, np.nan, 0, "none")
+    mean = float(x.mean())
+    if x.size == 1:
+        return Interval(mean, np.nan, np.nan, 1, "single")
+    if np.ptp(x) == 0:
+        return Interval(mean, mean, mean, x.size, "degenerate")
+    return None
+
+
 def mean_interval(values, *, confidence: float = CONFIDENCE) -> Interval:
     """Mean of ``values`` (1-D, one per seed; NaN dropped) and its Student t interval
     (rule 3): mean +- t((1 + confidence) / 2, n - 1) s / sqrt(n), zero width when every
     value is equal."""
     x = _finite(values)
-    n = x.size
-    if n == 0:
-        return Interval(np.nan, np.nan, np.nan, 0, "none")
-    mean = float(x.mean())
-    if n == 1:
-        return Interval(mean, np.nan, np.nan, 1, "single")
-    if np.ptp(x) == 0:
-        return Interval(mean, mean, mean, n, "degenerate")
+    trivial = _trivial_interval(x)
+    if trivial is not None:
+        return trivial
+    n, mean = x.size, float(x.mean())
     half = float(sps.t.ppf((1.0 + confidence) / 2.0, n - 1) * x.std(ddof=1) / np.sqrt(n))
     return Interval(mean, mean - half, mean + half, n, "t")
 
@@ -243,14 +252,10 @@ def bootstrap_mean(values, *, confidence: float = CONFIDENCE, n_resamples: int |
     """
     n_resamples = _RESAMPLES.get() if n_resamples is None else n_resamples
     x = _finite(values)
-    n = x.size
-    if n == 0:
-        return Interval(np.nan, np.nan, np.nan, 0, "none")
-    mean = float(x.mean())
-    if n == 1:
-        return Interval(mean, np.nan, np.nan, 1, "single")
-    if np.ptp(x) == 0:
-        return Interval(mean, mean, mean, n, "degenerate")
+    trivial = _trivial_interval(x)
+    if trivial is not None:
+        return trivial
+    n, mean = x.size, float(x.mean())
     methods = ("BCa", "percentile") if n >= MIN_SEEDS else ("percentile",)
     for method in methods:
         with warnings.catch_warnings():
