@@ -38,7 +38,10 @@ DEPARTURES: tuple[Departure, ...] = (
         ours="An isotropic Coulomb cone: the two tangential impulses of a contact are "
              "projected together onto the disc of radius mu times the normal impulse (an "
              "ellipse in the grain frame of a directional material), with one effective "
-             "mass for both rows (thesis.physics.solver).",
+             "mass for both rows (thesis.physics.solver); where a directional grain turns "
+             "within 10 degrees of the contact normal its forward and backward coefficients "
+             "fade into the lateral one (thesis.physics.collision.DIRECTIONAL_FADE, a choice: "
+             "no source gives it).",
         why="The pyramid's friction depends on the direction a body faces in the world: "
             "sqrt(2) mu at 45 degrees to the axes, and a path that bends towards an axis; "
             "Coulomb's law, and the robots' turning and diagonal slips, have no preferred "

@@ -77,21 +77,35 @@ def batch_states(state, n: int, lateral=None, heading=None, forward=None):
     return s
 
 
-@functools.lru_cache(maxsize=32)
-def _compiled(command_fn, n_steps: int, stride: int, chunk=1):
-    """jit of a batched rollout for a given command function, length and chunking of
-    the batch (``thesis.physics.batched_rollout``'s ``chunk``) (cached)."""
+def _command_controller(command_fn):
+    """The engine controller of a command function: its commands as servo actions."""
 
     def controller(_, sens, memory, t):
         cmd = command_fn(memory, command_time(t), sens)
         return O.commands_to_action(cmd).astype(sens["body_pos"].dtype), memory
 
-    def run(model, states0, memory):
-        _, traj = batched_rollout(model, states0, controller, None, n_steps, memory0=memory,
+    return controller
+
+
+def _sampled_rollout(model, states0, controller, memory, n_steps: int, stride: int, chunk):
+    """(final states, pos, rot) of a batched rollout of ``n_steps``, the body poses
+    sampled at the end of each command period (every ``stride`` steps)."""
+    final, traj = batched_rollout(model, states0, controller, None, n_steps, memory0=memory,
                                   batch_memory=True, record=("body_pos", "body_rot"),
                                   chunk=chunk)
-        pos = traj["body_pos"][:, stride - 1::stride]
-        rot = traj["body_rot"][:, stride - 1::stride]
+    sample = slice(stride - 1, None, stride)
+    return final, traj["body_pos"][:, sample], traj["body_rot"][:, sample]
+
+
+@functools.lru_cache(maxsize=32)
+def _compiled(command_fn, n_steps: int, stride: int, chunk=1):
+    """jit of a batched rollout for a given command function, length and chunking of
+    the batch (``thesis.physics.batched_rollout``'s ``chunk``) (cached)."""
+    controller = _command_controller(command_fn)
+
+    def run(model, states0, memory):
+        _, pos, rot = _sampled_rollout(model, states0, controller, memory, n_steps, stride,
+                                       chunk)
         return pos, rot
 
     return jax.jit(run)
@@ -135,16 +149,10 @@ def _compiled_assisted(command_fn, n_steps: int, stride: int, reset_steps: int, 
     inf for a robot left alone (see :func:`restart_commands`). Returns (pos, rot,
     reset (B,) bool). Cached; one compiled program per shape, as :func:`_compiled`."""
 
-    def controller(_, sens, memory, t):
-        cmd = command_fn(memory, command_time(t), sens)
-        return O.commands_to_action(cmd).astype(sens["body_pos"].dtype), memory
+    controller = _command_controller(command_fn)
 
     def segment(model, states0, memory, n):
-        final, traj = batched_rollout(model, states0, controller, None, n, memory0=memory,
-                                      batch_memory=True, record=("body_pos", "body_rot"),
-                                      chunk=chunk)
-        sample = slice(stride - 1, None, stride)  # the pose at the end of each command period
-        return final, traj["body_pos"][:, sample], traj["body_rot"][:, sample]
+        return _sampled_rollout(model, states0, controller, memory, n, stride, chunk)
 
     def run(model, states0, memory, fall_height, eligible):
         mid, pos0, rot0 = segment(model, states0, memory, reset_steps)
