@@ -167,3 +167,29 @@ def test_scaling_benchmark_is_registered():
     checked on the smoke pipeline's result, tests/pipeline/layouts_ch2.py)."""
     assert registry.BENCHMARKS["chirpz"] == "ch2/chirpz_scaling"
     assert registry.resolve("ch2/chirpz_scaling") is not None
+
+
+def test_training_step_benchmark(tiny):
+    """``thesis bench chirpz-train`` times the step and its parts per model x transform x d;
+    the transform "none" has no localisation and no transform part (0) and its cell is
+    shared by every d."""
+    ctx, _, _ = tiny
+    assert registry.BENCHMARKS["chirpz-train"] == "ch2/train_step"
+    c = copy.deepcopy(ctx("ch2/train_step").config)
+    c["train_bench"] = {"models": ["rnn_spn"], "transforms": ["chirp_z", "none"],
+                        "downsample": [3, 4], "batch": 2, "repeats": 2}
+    run = dataclasses.replace(ctx("ch2/train_step"), config=c)
+    ds = registry.resolve("ch2/train_step")(run)
+    assert ds["seconds"].dims == ("model", "transform", "d", "part")
+    assert list(ds["part"].values) == ["step", "forward", "localisation", "transform",
+                                       "classifier", "update"]
+    assert ds["seconds_runs"].sizes["repeat"] == 2
+    cz = ds["seconds"].sel(model="rnn_spn", transform="chirp_z")
+    assert np.all(cz.values > 0)
+    none = ds["seconds"].sel(model="rnn_spn", transform="none")
+    assert np.all(none.sel(part=["localisation", "transform"]).values == 0)
+    assert np.all(none.sel(part=["step", "classifier", "update"]).values > 0)
+    np.testing.assert_array_equal(none.sel(d=3).values, none.sel(d=4).values)
+    n = ds["n_params"].sel(model="rnn_spn")
+    assert n.sel(transform="chirp_z", d=3) > n.sel(transform="chirp_z", d=4)  # larger crops
+    assert n.sel(transform="none", d=3) == n.sel(transform="none", d=4)

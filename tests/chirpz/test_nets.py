@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import scipy.signal
 
-from thesis.chirpz.nets import NetSpec, apply_net, conv2d, gru_step, init_net, maxpool2
+from thesis.chirpz.nets import (NetSpec, apply_net, conv2d, first_max_mask, gru_step, init_net,
+                               maxpool2, maxpool2_reference)
 from thesis.chirpz.train import train
 from thesis.chirpz.transforms import get_transform
 
@@ -74,6 +75,44 @@ def test_conv_and_pool_match_reference():
     pooled = np.asarray(maxpool2(jnp.asarray(x)))
     assert pooled.shape == (1, 3, 3, 2)
     assert pooled[0, 1, 2, 1] == x[0, 2:4, 4:6, 1].max()
+
+
+@pytest.mark.parametrize("shape", [(3, 8, 8, 2), (2, 9, 7, 3)])  # even, and odd borders
+def test_maxpool2_derivatives_equal_the_reference_pool_with_ties(shape):
+    """Forward, reverse-mode and forward-mode derivatives of the comparison-based pool equal
+    those of the ``reduce_window`` pool bit for bit, on inputs drawn from {0, 1, 2} so that
+    most windows hold tied maxima (the gradient must go to the same element as XLA's
+    select_and_scatter, not be split)."""
+    rng = np.random.default_rng(1)
+    x = jnp.asarray(rng.integers(0, 3, shape), jnp.float32)
+    ct = jnp.asarray(rng.standard_normal((shape[0], shape[1] // 2, shape[2] // 2, shape[3])),
+                     jnp.float32)
+    y = maxpool2(x)
+    assert np.array_equal(np.asarray(y), np.asarray(maxpool2_reference(x)))
+    # the draw holds many ties, including windows whose tied maxima are not the first entry
+    mask = np.asarray(first_max_mask(x, y))
+    xw = np.asarray(x)[:, : 2 * (shape[1] // 2), : 2 * (shape[2] // 2)].reshape(mask.shape)
+    ties = (xw == np.asarray(y)[:, :, None, :, None, :]).sum(axis=(2, 4))
+    assert (ties > 1).mean() > 0.3
+    assert np.all(mask.sum(axis=(2, 4)) == 1)
+
+    def obj(pool):
+        return lambda x: jnp.sum(pool(x) * ct)
+
+    g = jax.jit(jax.grad(obj(maxpool2)))(x)
+    g_ref = jax.jit(jax.grad(obj(maxpool2_reference)))(x)
+    assert np.array_equal(np.asarray(g), np.asarray(g_ref))
+    assert np.count_nonzero(np.asarray(g)) == ct.size  # one element per window, not split
+    t = jnp.asarray(rng.standard_normal(shape), jnp.float32)
+    _, jt = jax.jvp(maxpool2, (x,), (t,))
+    _, jt_ref = jax.jvp(maxpool2_reference, (x,), (t,))
+    assert np.array_equal(np.asarray(jt), np.asarray(jt_ref))
+
+
+def test_maxpool2_gradient_goes_to_the_first_of_tied_maxima():
+    x = jnp.asarray([[0.0, 2.0], [2.0, 2.0]])[None, :, :, None]
+    g = np.asarray(jax.grad(lambda x: jnp.sum(maxpool2(x)))(x))[0, :, :, 0]
+    np.testing.assert_array_equal(g, [[0.0, 1.0], [0.0, 0.0]])
 
 
 def test_gru_step_matches_equations():

@@ -96,3 +96,34 @@ def test_bilinear_gradients_finite_differences():
             t = TRANSFORMS[name]
             check_grads(lambda i, q: jnp.sum(w * t(i, q, 6)), (img, p), order=1, modes=["rev"],
                         atol=1e-5, rtol=1e-5, eps=1e-6)
+
+
+@pytest.mark.parametrize("output", ["abs", "real"])
+@pytest.mark.parametrize("name", ["bilinear_no_skew", "chirp_z"])
+def test_crops_equal_the_layer_on_repeated_images(name, output):
+    """Transform.crops (RNN-SPN's T crops per canvas; the chirp-Z layer computes each
+    canvas's spectrum once) equals the layer applied to the canvas repeated T times."""
+    rng = np.random.default_rng(3)
+    b, t_steps, n, m = 2, 3, 20, 10
+    img = jnp.asarray(rng.random((b, n, n)), jnp.float32)
+    p = np.column_stack([rng.uniform(-0.5, 0.5, b * t_steps), rng.uniform(0.6, 1.2, b * t_steps),
+                         rng.uniform(-0.3, 0.3, (b * t_steps, 2))])
+    p = jnp.asarray(p, jnp.float32).reshape(b, t_steps, 4)
+    t = get_transform(name, output)
+    if name == "chirp_z":
+        assert t.apply_crops is not None
+    crops = jax.jit(t.crops, static_argnums=2)(img, p, m)
+    want = jax.jit(t.apply, static_argnums=2)(jnp.repeat(img, t_steps, axis=0),
+                                              p.reshape(b * t_steps, 4), m)
+    assert crops.shape == (b * t_steps, m, m)
+    np.testing.assert_allclose(np.asarray(crops), np.asarray(want), rtol=1e-6, atol=1e-6)
+    # sample-major: crop t of image b sits at b * T + t and differs from the other crops
+    assert float(jnp.abs(crops[0] - crops[1]).max()) > 1e-3
+    one = t.apply(img[1:2], p[1, 2:3], m)
+    np.testing.assert_allclose(np.asarray(crops[5]), np.asarray(one[0]), rtol=1e-5, atol=1e-5)
+    # the gradient with respect to the parameters flows through the shared spectrum alike
+    ct = jnp.asarray(rng.standard_normal(crops.shape), jnp.float32)
+    g = jax.grad(lambda p: jnp.sum(t.crops(img, p, m) * ct))(p)
+    g_want = jax.grad(lambda p: jnp.sum(t.apply(jnp.repeat(img, t_steps, axis=0),
+                                                p.reshape(b * t_steps, 4), m) * ct))(p)
+    np.testing.assert_allclose(np.asarray(g), np.asarray(g_want), rtol=1e-5, atol=1e-5)

@@ -45,7 +45,10 @@ Output: the interpolant of a real image is real; ``output="real"`` returns its r
 
 from __future__ import annotations
 
+import functools
+
 import jax.numpy as jnp
+import numpy as np
 from jax import Array, lax
 
 __all__ = ["chirpz_resample", "direct_resample", "fast_len", "sample_grid"]
@@ -82,6 +85,24 @@ def _crop_spectrum(spec: Array, k: int) -> Array:
     return s[..., start : start + k, start : start + k]
 
 
+@functools.lru_cache(maxsize=64)
+def _index_grids(k: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The index vectors of Alg. 2.1 that depend on the sizes only (trace-time constants).
+
+    Returns:
+        kk (K,): centred frequencies; lag (L,): lags τ - (K - 1) + K//2, τ = 0..L-1, of
+        the chirp B on the zero-padded length L = fast_len(K + M - 1) (only
+        τ <= K + M - 2 is ever read); nn (M,): output indices. All float64 integers (exact).
+    """
+    big = fast_len(k + m - 1)
+    kk = np.arange(k, dtype=np.float64) - k // 2
+    lag = np.arange(big, dtype=np.float64) - (k - 1) + k // 2
+    nn = np.arange(m, dtype=np.float64)
+    for v in (kk, lag, nn):
+        v.flags.writeable = False
+    return kk, lag, nn
+
+
 def sample_grid(n: int, m: int, x0, y0, theta, delta) -> tuple[Array, Array]:
     """Input-pixel coordinates (x, y) of the M x M output grid (module docstring geometry).
 
@@ -116,6 +137,7 @@ def chirpz_resample(
     out_size: int | None = None,
     n_freq: int | None = None,
     output: str = "real",
+    crops_per_image: int = 1,
 ) -> Array:
     """Resample square images on a rotated/scaled/translated grid with the chirp-Z transform.
 
@@ -125,16 +147,19 @@ def chirpz_resample(
 
     Args:
         images: (B, N, N) real images (any intensity unit; the output has the same unit).
-        x0, y0: (B,) offset of the output grid's centre from the image centre [input px].
-        theta: (B,) rotation [rad].
-        delta: (B,) spacing of output pixels [input px] (Δ of §2.3).
+        x0, y0: (B T,) offset of the output grid's centre from the image centre [input px].
+        theta: (B T,) rotation [rad].
+        delta: (B T,) spacing of output pixels [input px] (Δ of §2.3).
         out_size: output size M (default N). Down-sampling by d means M = N // d.
         n_freq: number of central frequencies kept per axis before transforming
             (default ``min(M, N)``: the §2.4 down-sampling low-pass).
         output: ``"real"`` (real part of the interpolant) or ``"abs"`` (Alg. 2.1's |D|).
+        crops_per_image: T, the number of grids sampled from every image: entry b T + t
+            of the parameters (and of the result) is crop t of image b. The image's
+            spectrum (Alg. 2.1 line 1) is computed once and shared by its T crops.
 
     Returns:
-        (B, M, M) resampled images.
+        (B T, M, M) resampled images.
     """
     n = images.shape[-1]
     if images.shape[-2] != n:
@@ -164,7 +189,9 @@ def chirpz_resample(
     oy = c + y0 + delta * (-jnp.sin(theta) * h - jnp.cos(theta) * h)
 
     spec = _crop_spectrum(jnp.fft.fft2(images.astype(real_dtype)), k).astype(cplx)
-    kk = _centred(k).astype(real_dtype)
+    if crops_per_image != 1:
+        spec = jnp.repeat(spec, int(crops_per_image), axis=0)
+    kk, lag, nn = (v.astype(real_dtype) for v in _index_grids(k, m))
     ky = kk[None, :, None]
     kx = kk[None, None, :]
 
@@ -177,15 +204,12 @@ def chirpz_resample(
     a_chirp = jnp.pi * quad(ky, kx)
     u = spec * _cis(phase + a_chirp)
 
-    big = fast_len(k + m - 1)
-    # B at lags τ - (K - 1) + K//2 for τ = 0..L-1 (only τ <= K + M - 2 is ever read)
-    lag = (jnp.arange(big) - (k - 1) + k // 2).astype(real_dtype)
+    big = lag.shape[0]
     b_chirp = _cis(-jnp.pi * quad(lag[None, :, None], lag[None, None, :]))
     conv = jnp.fft.ifft2(
         jnp.fft.fft2(u, s=(big, big)) * jnp.fft.fft2(b_chirp), axes=(-2, -1)
     )
     out = conv[..., k - 1 : k - 1 + m, k - 1 : k - 1 + m]
-    nn = jnp.arange(m).astype(real_dtype)
     c_chirp = _cis(jnp.pi * quad(nn[None, :, None], nn[None, None, :]))
     g = jnp.swapaxes(out * c_chirp, -1, -2) / (n * n)
     return jnp.real(g) if output == "real" else jnp.abs(g)

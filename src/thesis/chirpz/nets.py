@@ -33,7 +33,8 @@ from jax import lax
 
 from thesis.chirpz.transforms import Transform
 
-__all__ = ["NetSpec", "init_net", "apply_net", "conv2d", "maxpool2", "gru_step"]
+__all__ = ["NetSpec", "init_net", "apply_net", "localise", "transform_stage", "classify",
+           "conv2d", "maxpool2", "maxpool2_reference", "first_max_mask", "gru_step"]
 
 
 @dataclass(frozen=True)
@@ -75,9 +76,64 @@ def conv2d(x, w, b):
     return y + b[None, None, None, :]
 
 
-def maxpool2(x):
-    """2 x 2 max pooling with stride 2, odd borders dropped: (B, H, W, C) -> (B, H//2, W//2, C)."""
+def maxpool2_reference(x):
+    """2 x 2 max pooling with stride 2, odd borders dropped: (B, H, W, C) -> (B, H//2, W//2, C).
+
+    XLA's ``reduce_window``; its reverse-mode derivative is XLA's ``select_and_scatter``.
+    """
     return lax.reduce_window(x, -jnp.inf, lax.max, (1, 2, 2, 1), (1, 2, 2, 1), "VALID")
+
+
+def _windows(x):
+    """(B, H, W, C) -> (B, H//2, 2, W//2, 2, C): the 2 x 2 pooling windows, odd borders dropped."""
+    b, h, w, c = x.shape
+    h2, w2 = h // 2, w // 2
+    return x[:, : 2 * h2, : 2 * w2].reshape(b, h2, 2, w2, 2, c)
+
+
+def first_max_mask(x, y):
+    """One-hot (B, H//2, 2, W//2, 2, C) mask of the first maximum of each 2 x 2 window.
+
+    "First" in the window's row-major order (top left, top right, bottom left, bottom
+    right), the element XLA's ``select_and_scatter`` (``jax.grad`` of
+    :func:`maxpool2_reference`) routes the gradient to when several elements tie. A window
+    whose maximum is NaN has no element equal to it and an all-false mask.
+
+    Args:
+        x: (B, H, W, C) pool input; y: (B, H//2, W//2, C) its pooled maxima.
+    """
+    xw = _windows(x)
+    e00, e01 = xw[:, :, 0, :, 0] == y, xw[:, :, 0, :, 1] == y
+    e10, e11 = xw[:, :, 1, :, 0] == y, xw[:, :, 1, :, 1] == y
+    f01 = e01 & ~e00
+    seen = e00 | e01
+    f10 = e10 & ~seen
+    f11 = e11 & ~(seen | e10)
+    top = jnp.stack([e00, f01], axis=3)  # (B, H2, W2, 2, C)
+    bottom = jnp.stack([f10, f11], axis=3)
+    return jnp.stack([top, bottom], axis=2)
+
+
+@jax.custom_jvp
+def maxpool2(x):
+    """2 x 2 max pooling with stride 2, odd borders dropped: (B, H, W, C) -> (B, H//2, W//2, C).
+
+    The forward pass is :func:`maxpool2_reference`'s. Its derivative is the same linear
+    map as that of :func:`maxpool2_reference` (the tangent, or in reverse mode the
+    gradient, of each window goes to the window's first maximum, :func:`first_max_mask`),
+    written with elementwise comparisons, a select and a sum instead of XLA's
+    ``select_and_scatter``, which on CPU dominated the classifier's backward pass (Tab. 2.1
+    networks, issue 43; ``thesis bench chirpz-train``).
+    """
+    return maxpool2_reference(x)
+
+
+@maxpool2.defjvp
+def _maxpool2_jvp(primals, tangents):
+    (x,), (t,) = primals, tangents
+    y = maxpool2_reference(x)
+    mask = first_max_mask(x, y)
+    return y, jnp.sum(jnp.where(mask, _windows(t), jnp.zeros((), t.dtype)), axis=(2, 4))
 
 
 def _glorot(key, shape, fan_in, fan_out):
@@ -208,55 +264,81 @@ def _cls_features(p, img, key, rate, train):
     return x.reshape(x.shape[0], -1)
 
 
-def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_params=False):
-    """Logits (B, n_digits, 10) of the network ``spec`` on images (B, S, S).
+def localise(p, spec: NetSpec, images):
+    """Localisation stage (§2.5, Tab. 2.1): the transform parameters predicted from images.
 
-    ``key`` drives dropout (only used when ``train`` and ``spec.dropout > 0``). With
-    ``return_params`` also returns the transform parameters: (B, P) for FFN-SPN,
-    (B, n_digits, P) for RNN-SPN (None for "none").
+    Args:
+        p: parameters of :func:`init_net`; spec: the network; images: (B, S, S) in [0, 1].
+
+    Returns:
+        (B, P) for FFN-SPN, (B, n_digits, P) for RNN-SPN (step t's transform, the
+        ``step_shift`` offset included); None for the transform "none".
     """
-    if key is None:
-        key = jax.random.key(0)
-    b = images.shape[0]
     t = spec.transform
+    if not t.n_params:
+        return None
+    if spec.model == "ffn_spn":
+        h = jax.nn.relu(_dense(_loc_features(p, images), p["loc_dense"]))
+        return _dense(h, p["loc_out"])
+    nd = spec.n_digits
+    g = p["gru"]
+    h0 = jnp.zeros((images.shape[0], g["wh"].shape[0]), images.dtype)
+    feat = _loc_features(p, images)
+
+    def step(h, _):
+        h = gru_step(g, h, feat)
+        return h, _dense(h, p["loc_out"])
+
+    _, theta = lax.scan(step, h0, None, length=nd)  # (nd, B, P)
+    theta = jnp.swapaxes(theta, 0, 1)  # (B, nd, P)
+    if spec.step_shift:
+        # fixed per-step x offset of the crop centre (NetSpec.step_shift)
+        shift = (jnp.arange(nd, dtype=theta.dtype) - (nd - 1) / 2.0) * spec.step_shift
+        theta = theta.at[:, :, 2].add(shift[None, :])
+    return theta
+
+
+def transform_stage(spec: NetSpec, images, theta):
+    """Spatial transform stage (§2.5): what the classifier sees.
+
+    Args:
+        images: (B, S, S); theta: the output of :func:`localise`.
+
+    Returns:
+        (B, M, M) for FFN-SPN, (B * n_digits, M, M) sample-major crops for RNN-SPN (one
+        per step, all cut from the same canvas: :meth:`Transform.crops`), M = ``spec.out_size``;
+        the images unchanged for the transform "none".
+    """
+    if theta is None:
+        return images
+    if spec.model == "ffn_spn":
+        return spec.transform(images, theta, spec.out_size)
+    return spec.transform.crops(images, theta, spec.out_size)
+
+
+def classify(p, spec: NetSpec, x, key, train: bool = False):
+    """Classification stage (Tab. 2.1): logits (B, n_digits, 10) from the transformed images.
+
+    Args:
+        x: the output of :func:`transform_stage` ((B, M, M), or (B * n_digits, M, M) crops
+            for RNN-SPN with a transform, or the (B, S, S) canvas for "none").
+        key: dropout key (used when ``train`` and ``spec.dropout > 0``).
+    """
     rate = spec.dropout
     nd = spec.n_digits
     if spec.model == "ffn_spn":
-        if t.n_params:
-            h = jax.nn.relu(_dense(_loc_features(p, images), p["loc_dense"]))
-            theta = _dense(h, p["loc_out"])
-            x = t(images, theta, spec.out_size)
-        else:
-            theta, x = None, images
         f = _cls_features(p, x, key, rate, train)
         f = jax.nn.relu(_dense(f, p["cls_dense"]))
-        logits = (_dense(f, p["cls_out"])).reshape(b, nd, 10)
-        return (logits, theta) if return_params else logits
-
-    # RNN-SPN
-    g = p["gru"]
-    h0 = jnp.zeros((b, g["wh"].shape[0]), images.dtype)
-    if t.n_params:
-        feat = _loc_features(p, images)
-
-        def step(h, _):
-            h = gru_step(g, h, feat)
-            return h, _dense(h, p["loc_out"])
-
-        _, theta = lax.scan(step, h0, None, length=nd)  # (nd, B, P)
-        theta = jnp.swapaxes(theta, 0, 1)  # (B, nd, P)
-        if spec.step_shift:
-            # fixed per-step x offset of the crop centre (NetSpec.step_shift)
-            shift = (jnp.arange(nd, dtype=theta.dtype) - (nd - 1) / 2.0) * spec.step_shift
-            theta = theta.at[:, :, 2].add(shift[None, :])
-        crops = t(
-            jnp.repeat(images, nd, axis=0), theta.reshape(b * nd, -1), spec.out_size
-        )  # (B*nd, M, M), sample-major
-        f = _cls_features(p, crops, key, rate, train)
+        return (_dense(f, p["cls_out"])).reshape(-1, nd, 10)
+    if spec.transform.n_params:
+        f = _cls_features(p, x, key, rate, train)
         f = jax.nn.relu(_dense(f, p["cls_dense"]))
     else:
-        theta = None
-        feat = _cls_features(p, images, key, rate, train)
+        # "none": the shared classifier sees the canvas at every step; the GRU state,
+        # driven by the classifier features, modulates its dense layer
+        g = p["gru"]
+        feat = _cls_features(p, x, key, rate, train)
+        h0 = jnp.zeros((x.shape[0], g["wh"].shape[0]), x.dtype)
 
         def step(h, _):
             h = gru_step(g, h, feat)
@@ -265,6 +347,20 @@ def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_pa
         _, hs = lax.scan(step, h0, None, length=nd)  # (nd, B, H)
         pre = _dense(feat, p["cls_dense"])
         mod = jnp.einsum("tbh,hk->btk", hs, p["gru_to_cls"]["w"]) + p["gru_to_cls"]["b"][None, None, :]
-        f = jax.nn.relu(pre[:, None, :] + mod).reshape(b * nd, -1)
-    logits = (_dense(f, p["cls_out"])).reshape(b, nd, 10)
+        f = jax.nn.relu(pre[:, None, :] + mod).reshape(x.shape[0] * nd, -1)
+    return (_dense(f, p["cls_out"])).reshape(-1, nd, 10)
+
+
+def apply_net(p, spec: NetSpec, images, key=None, train: bool = False, return_params=False):
+    """Logits (B, n_digits, 10) of the network ``spec`` on images (B, S, S).
+
+    The three stages :func:`localise`, :func:`transform_stage` and :func:`classify` in turn.
+    ``key`` drives dropout (only used when ``train`` and ``spec.dropout > 0``). With
+    ``return_params`` also returns the transform parameters: (B, P) for FFN-SPN,
+    (B, n_digits, P) for RNN-SPN (None for "none").
+    """
+    if key is None:
+        key = jax.random.key(0)
+    theta = localise(p, spec, images)
+    logits = classify(p, spec, transform_stage(spec, images, theta), key, train)
     return (logits, theta) if return_params else logits

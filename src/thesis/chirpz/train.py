@@ -32,7 +32,8 @@ import optax
 
 from thesis.chirpz.nets import NetSpec, apply_net, init_net
 
-__all__ = ["TrainResult", "train", "per_digit_error", "make_optimizer", "localisation_labels"]
+__all__ = ["TrainResult", "train", "per_digit_error", "make_optimizer", "optimizer_settings",
+           "localisation_labels"]
 
 #: top-level parameter groups of the localisation network (thesis.chirpz.nets)
 LOC_GROUPS = ("loc_conv", "loc_dense", "loc_out")
@@ -105,6 +106,15 @@ def _loss(params, spec, x, y, key):
     return jnp.mean(nll)
 
 
+def optimizer_settings(cfg: dict) -> tuple:
+    """The keys of a ``ch2.train`` section that :func:`make_optimizer` reads, as a hashable
+    tuple of (name, value) pairs (the schema defaults where a key is absent)."""
+    opt_cfg = {k: cfg[k] for k in ("optimizer", "learning_rate", "clip_value", "clip_norm")}
+    opt_cfg["loc_lr_scale"] = float(cfg.get("loc_lr_scale", 1.0))  # schema defaults
+    opt_cfg["warmup_steps"] = int(cfg.get("warmup_steps", 0))
+    return tuple(opt_cfg.items())
+
+
 @functools.lru_cache(maxsize=64)
 def _make_steps(spec: NetSpec, opt_cfg: tuple):
     """Jitted train step and error count for ``spec``; cached so that every seed (and every
@@ -146,10 +156,7 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     k_init, k_drop = jax.random.split(key)
     params = init_net(k_init, spec)
     n_params = int(sum(v.size for v in jax.tree_util.tree_leaves(params)))
-    opt_cfg = {k: cfg[k] for k in ("optimizer", "learning_rate", "clip_value", "clip_norm")}
-    opt_cfg["loc_lr_scale"] = float(cfg.get("loc_lr_scale", 1.0))  # schema defaults
-    opt_cfg["warmup_steps"] = int(cfg.get("warmup_steps", 0))
-    optimizer, train_step, errors = _make_steps(spec, tuple(opt_cfg.items()))
+    optimizer, train_step, errors = _make_steps(spec, optimizer_settings(cfg))
     opt_state = optimizer.init(params)
     xtr, ytr = data["train"]
     bs = int(cfg["batch_size"])

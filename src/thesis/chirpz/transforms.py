@@ -128,6 +128,19 @@ def _chirp_z(images, params, out_size, output="abs"):
     )
 
 
+def _chirp_z_crops(images, params, out_size, output="abs"):
+    """T chirp-Z crops of each image from one spectrum per image: params (B, T, 4) ->
+    (B T, M, M) sample-major (:meth:`Transform.crops`)."""
+    b, t, _ = params.shape
+    n = images.shape[-1]
+    half = (n - 1) / 2.0
+    th, s, tx, ty = (params.reshape(b * t, 4)[:, i] for i in range(4))
+    return chirpz_resample(
+        images, tx * half, ty * half, th, s * (n - 1) / (out_size - 1), out_size=out_size,
+        output=output, crops_per_image=t,
+    )
+
+
 def _none(images, params, out_size):
     return images
 
@@ -142,6 +155,9 @@ class Transform:
         identity: the P parameters of the identity transform (bias initialisation).
         apply: the layer function.
         downsamples: False for ``none`` (output size is always N).
+        apply_crops: ``(images (B,N,N), params (B,T,P), M) -> (B T, M', M')``, several
+            crops per image sharing per-image work (:meth:`crops`); None = ``apply`` on
+            the repeated images.
     """
 
     name: str
@@ -149,6 +165,7 @@ class Transform:
     identity: tuple[float, ...]
     apply: Callable[..., Array]
     downsamples: bool = True
+    apply_crops: Callable[..., Array] | None = None
 
     def out_size(self, n: int, d: int) -> int:
         """Output side for input side n and down-sampling factor d (N // d, or N for none)."""
@@ -157,11 +174,27 @@ class Transform:
     def __call__(self, images: Array, params: Array, out_size: int) -> Array:
         return self.apply(images, params, out_size)
 
+    def crops(self, images: Array, params: Array, out_size: int) -> Array:
+        """T crops of every image (RNN-SPN's one transform per digit, §2.5).
+
+        Args:
+            images: (B, N, N); params: (B, T, P) (crop t of image b uses params[b, t]).
+
+        Returns:
+            (B * T, M, M) sample-major (crop t of image b at b * T + t), each equal to
+            ``self(images[b:b+1], params[b, t:t+1], out_size)``.
+        """
+        if self.apply_crops is not None:
+            return self.apply_crops(images, params, out_size)
+        b, t, _ = params.shape
+        return self.apply(jnp.repeat(images, t, axis=0), params.reshape(b * t, -1), out_size)
+
 
 TRANSFORMS: dict[str, Transform] = {
     "bilinear": Transform("bilinear", 6, (1.0, 0.0, 0.0, 0.0, 1.0, 0.0), _bilinear),
     "bilinear_no_skew": Transform("bilinear_no_skew", 4, (0.0, 1.0, 0.0, 0.0), _bilinear_no_skew),
-    "chirp_z": Transform("chirp_z", 4, (0.0, 1.0, 0.0, 0.0), _chirp_z),
+    "chirp_z": Transform("chirp_z", 4, (0.0, 1.0, 0.0, 0.0), _chirp_z,
+                         apply_crops=_chirp_z_crops),
     "none": Transform("none", 0, (), _none, downsamples=False),
 }
 
@@ -201,5 +234,7 @@ def get_transform(name: str, chirpz_output: str = "abs") -> Transform:
     t = TRANSFORMS[name]
     if name == "chirp_z" and chirpz_output != "abs":
         return Transform(t.name, t.n_params, t.identity,
-                         lambda i, p, m: _chirp_z(i, p, m, output=chirpz_output))
+                         lambda i, p, m: _chirp_z(i, p, m, output=chirpz_output),
+                         apply_crops=lambda i, p, m: _chirp_z_crops(i, p, m,
+                                                                    output=chirpz_output))
     return t

@@ -35,7 +35,7 @@ DEPARTURES: tuple[Departure, ...] = (
         paper_keys=("sec2.5/n_train", "sec2.5/n_valid", "sec2.5/n_test"),
     ),
     Departure(
-        id="ch2.network_widths", kind="deviation", results=_TABLE,
+        id="ch2.network_widths", kind="deviation", results=(*_TABLE, "ch2/train_step"),
         thesis="Tab. 2.1 gives the filters and units of every layer of FFN-SPN and RNN-SPN.",
         ours="The profile's widths (narrower outside the paper profile); the layer sequence of "
              "Tab. 2.1 is kept.",
