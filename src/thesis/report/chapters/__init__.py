@@ -1,7 +1,9 @@
 """One module per chapter: ``tables(results)`` and ``figures(results, outdir)``.
 
 See :mod:`thesis.report.model` for the contract. A chapter without a module here has
-not been built; the report then shows it as "not run".
+not been built; the report then shows it as "not run". ``model`` is no thesis chapter:
+the simulated Oncilla's own checks (``thesis bench oncilla``, results under
+``results/<profile>/model/``); its figures render with ``thesis report --figures model``.
 """
 
 CHAPTERS = {
@@ -11,4 +13,5 @@ CHAPTERS = {
     "ch5": "Chapter 5 — Terrain classification on Puppy II",
     "ch6": "Chapter 6 — An embodied closed-loop gait",
     "ch7": "Chapter 7 — A differentiable physics engine",
+    "model": "The simulated Oncilla — model-level checks",
 }
