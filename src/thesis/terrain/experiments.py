@@ -11,7 +11,21 @@ profile into ``data/synthetic/puppy/<profile>.h5``; every experiment here reads 
 * ``table5_5``: SFA2 and RC-SFA on the 8 groups;
 * ``table5_6``: SFA2, ELM-SFA and RC-SFA over node counts, minimal, bound-right trials;
 * ``fig5_3``: RC trained on bound right at 1 Hz, confusion matrices on the other
-  frequencies (bound right) and on the other gaits (1 Hz).
+  frequencies (bound right) and on the other gaits (1 Hz);
+* ``table5_3_blocks``, ``table5_3_parts``: Tab. 5.3 with the other two selection modes
+  (:mod:`thesis.terrain.selections`; the tables above use ``ch5.protocol.selection``),
+  sensitivity variants run by the optional Snakemake target ``ch5_variants``.
+
+The separability measurement (``ch5/separability``) lives in
+:mod:`thesis.terrain.separability`.
+
+Every table also carries the generalisation map: ``accuracy_cells`` splits
+the test accuracy into the time steps whose (terrain, gait, frequency) cell has training
+trials in the fold (``seen``) and the rest (``unseen``), pooled over the two folds, with
+``seen_share`` and each subset's ``majority_share_cells``; and the fold-sharing
+measurements ``shared_tuning`` / ``shared_verification`` (percent of the evaluation time
+steps whose recording also feeds the fold's training side: 0 for trial-disjoint folds)
+and the attributes ``selection_mode`` and ``selection_levels`` (per seed and terrain).
 
 Every accuracy carries its baselines, computed from the labels of the sets it is scored
 on: ``majority_share`` (seed, split; Fig. 5.3: seed, test), the share of the time steps
@@ -42,11 +56,15 @@ from thesis.terrain import gaits as G
 from thesis.terrain import methods as M
 from thesis.terrain import protocol as P
 from thesis.terrain import recordings as REC
+from thesis.terrain import selections as SEL
 from thesis.terrain import sensors as S
 from thesis.terrain import tuning as T
 
 SELECTIONS = tuple(S.GROUPS)
 SPLITS = ("train", "test")
+#: Test time steps whose (terrain, gait, frequency) cell has training trials in the fold,
+#: and those whose cell has none (the generalisation map).
+CELLS = ("seen", "unseen")
 
 
 # --------------------------------------------------------------------------- shared
@@ -62,20 +80,58 @@ def _normalised(recs: REC.Recordings, trials: np.ndarray) -> np.ndarray:
     return (recs.signals.astype(np.float64) - mean) / std
 
 
-class _Study:
-    """One seed's selections of an experiment's trials and the parts of every fold."""
+def cell_codes(recs: REC.Recordings) -> np.ndarray:
+    """(n_trials,) integer code of each trial's (terrain, gait, frequency) cell of Tab. 5.1."""
+    keys = [(int(recs.terrain[t]), int(recs.gait[t]), round(float(recs.frequency[t]), 3))
+            for t in range(recs.n_trials)]
+    index = {k: i for i, k in enumerate(sorted(set(keys)))}
+    return np.array([index[k] for k in keys], int)
 
-    def __init__(self, ctx: RunContext, recs, signals, trials, seed: int):
+
+class _Study:
+    """One seed's selections of an experiment's trials and the parts of every fold.
+
+    ``mode`` is the selection mode (:mod:`thesis.terrain.selections`); the study records
+    each terrain's fallback level and, per fold, the share of the evaluation time steps
+    whose recording also feeds the fold's training side."""
+
+    def __init__(self, ctx: RunContext, recs, signals, trials, seed: int, mode: str):
         cfg = ctx.config
         pc = cfg["protocol"]
         self.recs, self.signals, self.cfg, self.seed, self.ctx = recs, signals, cfg, seed, ctx
         rng = seeding.rng(ctx.root_seed, f"{ctx.key}/selection", seed)
-        self.selections, self.remaining = P.make_selections(
-            recs.length, recs.terrain, trials, rng, int(pc["selections"]), int(pc["samples"]),
-            REC.TERRAINS)
+        sel = SEL.select(mode, recs.length, recs.terrain, trials, rng, int(pc["selections"]),
+                         int(pc["samples"]), int(pc["part_target"]), REC.TERRAINS)
+        self.selections, self.remaining = sel.selections, sel.remaining
+        self.level = {REC.TERRAINS[r]: lev for r, lev in sel.level.items()}
         self.tuning = P.tuning_folds(self.selections)
         self.verification = P.verification_folds(self.selections, self.remaining, recs.length)
+        self.shared = {which: np.array([SEL.shared_share(f) for f in getattr(self, which)])
+                       for which in ("tuning", "verification")}
+        self.cells = cell_codes(recs)
         self._cache: dict = {}
+
+    def seen(self, fold: int, trials: np.ndarray) -> np.ndarray:
+        """(len(trials),) whether each trial's cell has a training trial in verification
+        fold ``fold``."""
+        train = {self.cells[s.trial] for s in self.verification[fold].train}
+        return np.isin(self.cells[np.asarray(trials, int)], sorted(train))
+
+    def cell_baselines(self, n_terrains: int) -> tuple[float, np.ndarray]:
+        """(seen share, (2,) majority share of the seen / unseen test time steps), pooled
+        over the two verification folds [percent]."""
+        counts = np.zeros((2, n_terrains))
+        for i, split in enumerate(self.verification):
+            trials = np.array([s.trial for s in split.test], int)
+            steps = np.array([s.length for s in split.test], float)
+            seen = self.seen(i, trials)
+            for c, mask in enumerate((seen, ~seen)):
+                counts[c] += np.bincount(self.recs.terrain[trials[mask]], weights=steps[mask],
+                                         minlength=n_terrains)
+        total = counts.sum(1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = 100.0 * counts[0].sum() / total.sum() if total.sum() else np.nan
+            return float(share), 100.0 * counts.max(1) / total
 
     def parts(self, group: str, which: str) -> list[tuple[P.Parts, P.Parts]]:
         """(train, test) parts of the ``which`` folds (``"tuning"``/``"verification"``)."""
@@ -128,14 +184,22 @@ def _tune(ctx: RunContext, study: _Study, group: str, method: str, draw: M.Draw,
 
 
 def _verify(ctx: RunContext, study: _Study, group: str, method: str, params: dict,
-            draw: M.Draw) -> np.ndarray:
-    """(2 folds, 2 splits) train/test accuracy of the twofold verification [percent]."""
+            draw: M.Draw) -> tuple[np.ndarray, np.ndarray]:
+    """Twofold verification: (2 folds, 2 splits) train/test accuracy [percent], and (2
+    cells) test accuracy on the time steps of seen / unseen cells (:data:`CELLS`), pooled
+    over both folds [percent; NaN where a fold set has none]."""
     kw = _kwargs(ctx.config, ctx.root_seed, ctx.key, study.seed)
     out = np.zeros((2, 2))
+    hits = np.zeros((2, 2))  # cell, (correct, total)
     for i, (train, test) in enumerate(study.parts(group, "verification")):
         ptr, (pte,) = M.evaluate(method, params, draw, train, [test], len(REC.TERRAINS), **kw)
         out[i] = P.accuracy(ptr, train.labels()), P.accuracy(pte, test.labels())
-    return out
+        seen = np.repeat(study.seen(i, test.trial), test.length)
+        right = pte == test.labels()
+        for c, mask in enumerate((seen, ~seen)):
+            hits[c] += right[mask].sum(), mask.sum()
+    with np.errstate(invalid="ignore"):
+        return out, 100.0 * hits[:, 0] / hits[:, 1]
 
 
 def _single_thread(fn):
@@ -153,13 +217,16 @@ def _single_thread(fn):
 
 
 @_single_thread
-def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]) -> dict:
+def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]],
+          mode: str | None = None) -> dict:
     """Tune and verify every (group, method, nodes) cell for every seed.
 
     With ``ch5.tuning.per_seed`` false the hyper-parameters of a cell are tuned once, on
     the first seed's tuning folds, and verified on every seed (a declared deviation).
+    ``mode``: selection mode (None: the profile's ``ch5.protocol.selection``).
     Returns arrays keyed by name with a leading seed axis and a cell axis.
     """
+    mode = str(ctx.config["protocol"]["selection"]) if mode is None else mode
     recs = _load(ctx)
     signals = _normalised(recs, trials)
     seeds = list(ctx.config["seeds"])
@@ -171,10 +238,26 @@ def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]
               ("pca_rate", "leak", "input_scaling", "spectral_radius")}
     evals = np.zeros((len(seeds), n))
     majority = np.full((len(seeds), 2, 2), np.nan)  # seed, fold, split
+    cell_acc = np.full((len(seeds), n, 2), np.nan)  # seed, cell, seen/unseen
+    seen_share = np.full(len(seeds), np.nan)
+    n_remaining = np.zeros(len(seeds), int)
+    cell_majority = np.full((len(seeds), 2), np.nan)
+    shared = {w: np.full((len(seeds), k), np.nan) for w, k in (("tuning", 3),
+                                                                ("verification", 2))}
+    levels = {}
     tuned: dict = {}
     for si, seed in enumerate(seeds):
-        study = _Study(ctx, recs, signals, trials, seed)
+        study = _Study(ctx, recs, signals, trials, seed, mode)
         majority[si] = _study_majority(study, len(REC.TERRAINS))
+        seen_share[si], cell_majority[si] = study.cell_baselines(len(REC.TERRAINS))
+        for w in shared:
+            shared[w][si] = study.shared[w]
+        levels[int(seed)] = study.level
+        n_remaining[si] = len(study.remaining)
+        ctx.log.info("%s seed %d (%s selections): levels %s; evaluation steps sharing a "
+                     "recording with training: tuning %s %%, verification %s %%", ctx.key,
+                     seed, mode, study.level, np.round(study.shared["tuning"], 1),
+                     np.round(study.shared["verification"], 1))
         for ci, (group, method, nodes) in enumerate(cells):
             draw = _draw(ctx, nodes, seed) if method not in ("lr", "sfa2") else None
             tag = f"{group}/{method}/{nodes}"
@@ -188,11 +271,14 @@ def _grid(ctx: RunContext, trials: np.ndarray, cells: list[tuple[str, str, int]]
             cv[si, ci] = res["best_score"]
             for k, v in res["best"].items():
                 params[k][si, ci] = v
-            acc[si, ci] = _verify(ctx, study, group, method, res["best"], draw)
+            acc[si, ci], cell_acc[si, ci] = _verify(ctx, study, group, method, res["best"],
+                                                    draw)
             ctx.log.info("%s seed %d %s: train %.1f %%, test %.1f %%", ctx.key, seed, tag,
                          acc[si, ci, :, 0].mean(), acc[si, ci, :, 1].mean())
     return dict(acc=acc, cv=cv, params=params, evals=evals, seeds=seeds, recs=recs,
-                majority=majority)
+                majority=majority, cell_acc=cell_acc, seen_share=seen_share,
+                cell_majority=cell_majority, shared=shared, levels=levels, mode=mode,
+                n_remaining=n_remaining)
 
 
 def majority_share(segments, terrain: np.ndarray, n_terrains: int) -> float:
@@ -245,8 +331,10 @@ def _grid_dataset(g: dict, dims: list[str], coords: dict, shape: tuple, ref: str
     ds["cma_evaluations"] = (d, g["evals"].reshape((s,) + shape), {
         "units": "1", "long_name": "CMA-ES evaluations spent on this seed (0: reused the "
                                    "first seed's tuning)"})
+    _cells_variables(ds, g, d, shape)
     recs = g["recs"]
-    ds.attrs.update(thesis_ref=ref, seeds=list(g["seeds"]),
+    ds.attrs.update(thesis_ref=ref, seeds=list(g["seeds"]), selection_mode=g["mode"],
+                    selection_levels=json.dumps(g["levels"]),
                     tuned_per_seed=int(bool(ctx.config["tuning"]["per_seed"])),
                     cma_generations=int(ctx.config["tuning"]["generations"]),
                     samples_per_selection=int(ctx.config["protocol"]["samples"]),
@@ -256,13 +344,49 @@ def _grid_dataset(g: dict, dims: list[str], coords: dict, shape: tuple, ref: str
     return ds
 
 
+def _cells_variables(ds: xr.Dataset, g: dict, dims: list[str], shape: tuple) -> None:
+    """Add the generalisation map and the fold-sharing measurements of a :func:`_grid`
+    result to ``ds`` (``dims``/``shape``: the cell dims after ``seed``)."""
+    s = len(g["seeds"])
+    ds.coords["cells"] = list(CELLS)
+    ds.coords["tuning_fold"] = [0, 1, 2]
+    ds["accuracy_cells"] = (dims + ["cells"], g["cell_acc"].reshape((s,) + shape + (2,)), {
+        "units": "percent", "long_name": "test time steps classified correctly, split by "
+                                        "whether their (terrain, gait, frequency) cell has "
+                                        "training trials in the fold (seen) or not (unseen), "
+                                        "pooled over the two verification folds"})
+    ds["seen_share"] = (("seed",), g["seen_share"], {
+        "units": "percent", "long_name": "test time steps whose (terrain, gait, frequency) "
+                                        "cell has training trials in the fold, pooled over "
+                                        "the two verification folds"})
+    ds["majority_share_cells"] = (("seed", "cells"), g["cell_majority"], {
+        "units": "percent", "long_name": "time steps of the most frequent terrain among the "
+                                        "seen / unseen test time steps (their baseline)"})
+    ds["shared_tuning"] = (("seed", "tuning_fold"), g["shared"]["tuning"], {
+        "units": "percent", "long_name": "validation time steps of each threefold tuning "
+                                        "fold whose recording also feeds its training "
+                                        "selections"})
+    ds["remaining_trials"] = (("seed",), g["n_remaining"], {
+        "units": "1", "long_name": "trials no selection touched (added to every "
+                                   "verification fold's test set)"})
+    ds["shared_verification"] = (("seed", "fold"), g["shared"]["verification"], {
+        "units": "percent", "long_name": "test time steps of each verification fold whose "
+                                        "recording also feeds its training selection"})
+
+
+def _with_cells(g: dict, keep) -> dict:
+    """``g`` restricted to the grid cells ``keep`` (a slice of the cell axis)."""
+    return dict(g, acc=g["acc"][:, keep], cv=g["cv"][:, keep], evals=g["evals"][:, keep],
+                params={k: v[:, keep] for k, v in g["params"].items()},
+                cell_acc=g["cell_acc"][:, keep])
+
+
 # --------------------------------------------------------------------------- tables
-def table5_3(ctx: RunContext) -> xr.Dataset:
-    """Tab. 5.3: LR and RC on the 8 sensor groups, train and test accuracy."""
+def _table5_3(ctx: RunContext, mode: str | None) -> xr.Dataset:
     nodes = int(ctx.config["methods"]["nodes"])
     cells = [(g, m, nodes) for g in SELECTIONS for m in ("lr", "rc")]
     trials = _load(ctx).trials()
-    g = _grid(ctx, trials, cells)
+    g = _grid(ctx, trials, cells, mode)
     ds = _grid_dataset(g, ["selection", "method"], {"selection": list(SELECTIONS),
                                                     "method": ["lr", "rc"]},
                        (len(SELECTIONS), 2), "Tab. 5.3", ctx)
@@ -270,6 +394,25 @@ def table5_3(ctx: RunContext) -> xr.Dataset:
                         {"units": "1", "long_name": "signals in the sensor group (Tab. 5.2)"})
     ds.attrs["nodes"] = nodes
     return ds
+
+
+def table5_3(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.3: LR and RC on the 8 sensor groups, train and test accuracy, with the
+    profile's selection mode (``ch5.protocol.selection``, the primary protocol)."""
+    return _table5_3(ctx, None)
+
+
+def table5_3_blocks(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.3 with the previous protocol's selections (consecutive blocks of the
+    concatenated trials, a trial cut across selections): a sensitivity variant."""
+    return _table5_3(ctx, "blocks")
+
+
+def table5_3_parts(ctx: RunContext) -> xr.Dataset:
+    """Tab. 5.3 with selections drawn as parts across trials (whole trials assigned to one
+    selection, parts drawn within it): a sensitivity variant (§5.3.1 "We split all trials
+    into parts")."""
+    return _table5_3(ctx, "parts")
 
 
 def table5_4(ctx: RunContext) -> xr.Dataset:
@@ -281,9 +424,7 @@ def table5_4(ctx: RunContext) -> xr.Dataset:
     trials = _load(ctx).trials()
     g = _grid(ctx, trials, cells)
     s = len(g["seeds"])
-    hid = dict(g, acc=g["acc"][:, :-len(groups)], cv=g["cv"][:, :-len(groups)],
-               params={k: v[:, :-len(groups)] for k, v in g["params"].items()},
-               evals=g["evals"][:, :-len(groups)])
+    hid = _with_cells(g, slice(None, -len(groups)))
     ds = _grid_dataset(hid, ["selection", "method", "nodes"],
                        {"selection": groups, "method": ["elm", "rc"], "nodes": nodes},
                        (len(groups), 2, len(nodes)), "Tab. 5.4", ctx)
@@ -293,6 +434,9 @@ def table5_4(ctx: RunContext) -> xr.Dataset:
                                         "correctly, mean of the two verification folds"})
     ds["lr_cv_accuracy"] = (("seed", "selection"), g["cv"][:, -len(groups):], {
         "units": "percent", "long_name": "threefold cross-validation accuracy of LR"})
+    ds["lr_accuracy_cells"] = (("seed", "selection", "cells"), g["cell_acc"][:, -len(groups):], {
+        "units": "percent", "long_name": "LR test time steps classified correctly on seen / "
+                                        "unseen cells, pooled over the two folds"})
     ds.attrs["n_seeds"] = s
     return ds
 
@@ -318,14 +462,16 @@ def table5_6(ctx: RunContext) -> xr.Dataset:
     cells += [("minimal", "sfa2", 0)]
     recs = _load(ctx)
     g = _grid(ctx, recs.trials(["bound_right"]), cells)
-    hid = dict(g, acc=g["acc"][:, :-1], cv=g["cv"][:, :-1],
-               params={k: v[:, :-1] for k, v in g["params"].items()}, evals=g["evals"][:, :-1])
+    hid = _with_cells(g, slice(None, -1))
     ds = _grid_dataset(hid, ["method", "nodes"], {"method": ["elm_sfa", "rc_sfa"],
                                                   "nodes": nodes},
                        (2, len(nodes)), "Tab. 5.6", ctx)
     ds["sfa2_accuracy"] = (("seed", "split"), g["acc"][:, -1].mean(axis=-2), {
         "units": "percent", "long_name": "SFA2 time steps classified correctly, mean of the "
                                         "two verification folds"})
+    ds["sfa2_accuracy_cells"] = (("seed", "cells"), g["cell_acc"][:, -1], {
+        "units": "percent", "long_name": "SFA2 test time steps classified correctly on seen "
+                                        "/ unseen cells, pooled over the two folds"})
     ds.attrs.update(selection="minimal", gaits="bound_right")
     return ds
 

@@ -45,7 +45,7 @@ from thesis.terrain import readout, reservoir, sfa
 from thesis.terrain.protocol import Parts, flat
 
 __all__ = ["METHODS", "PARAMS", "SUPERVISED", "Draw", "draw", "fit", "predict",
-           "evaluate", "logcosh_contrast"]
+           "evaluate", "logcosh_contrast", "expand_raw"]
 
 #: Hyper-parameters of each method, in CMA-ES order.
 PARAMS: dict[str, tuple[str, ...]] = {
@@ -186,6 +186,27 @@ def predict(f: Fitted, parts: Parts) -> np.ndarray:
         else:
             out.append(readout.predict_bayes(f.bayes, f.ica.transform(f.sfa.transform(h))))
     return np.concatenate(out) if out else np.zeros((0,), int)
+
+
+def expand_raw(method: str, params: dict, weights: Draw | None, parts: Parts) -> np.ndarray:
+    """(n_samples, F) expansion of ``method`` (§5.2, Fig. 5.1 without PCA) of every valid
+    step of ``parts`` (flat order): the EMA (LR, SFA2's quadratic expansion on it), leaky
+    ELM or leaky ESN applied to all D inputs of ``parts`` (``w_in[:, :D]`` times the input
+    scaling). Fitting nothing, it is the same for every training set: the separability
+    measurement (:mod:`thesis.terrain.separability`) computes it once per trial."""
+    if method not in PARAMS:
+        raise ValueError(f"unknown method {method!r}; one of {METHODS}")
+    d = parts.x.shape[2]
+    w_in = w_res = None
+    if method in _HIDDEN:
+        w_in = weights.w_in[:, :d] * float(params["input_scaling"])
+        if _HIDDEN[method] == "esn":
+            w_res = weights.w_res * float(params["spectral_radius"])
+    f = Fitted(method=method, params=dict(params), pca=None, w_in=w_in, w_res=w_res)
+    width = w_in.shape[0] if w_in is not None else (d * (d + 1) // 2 if method == "sfa2"
+                                                    else d)
+    out = [flat(_expand(f, c.x, c.length), c.length) for c in _chunks(parts, max(width, d))]
+    return np.concatenate(out) if out else np.zeros((0, width))
 
 
 def evaluate(method: str, params: dict, weights: Draw | None, train: Parts,

@@ -12,12 +12,13 @@ Decisions where the text is open (each a declared choice, thesis.departures.ch5)
 
 * **Normalisation** over every trial the experiment uses, before selection (as stated;
   the test trials' statistics enter the scaling, a mild leak the thesis has too).
-* **Selections**: per terrain the trials are shuffled (seeded) and laid end to end; the
-  five selections are five consecutive blocks of ``samples`` time steps. A selection
-  thus holds one or two trials per terrain ("only some of these combinations are
-  included in the training set"). Trials no block touched are the "remaining relevant
-  trials"; the untouched rest of a trial that a block cut is dropped (it would share a
-  recording with a training block).
+* **Selections**: drawn by :mod:`thesis.terrain.selections` (whole trials per selection,
+  the primary protocol, or its variants). :func:`make_selections` here is the previous
+  protocol, kept as the ``"blocks"`` variant: per terrain the trials are shuffled
+  (seeded) and laid end to end and the five selections are five consecutive blocks of
+  ``samples`` time steps, so a trial can be cut across two selections (and then feeds
+  both sides of a fold). Trials no block touched are the "remaining relevant trials"; the
+  untouched rest of a trial that a block cut is dropped.
 * **Folds**: tuning uses selections 0-2, threefold (train on two, validate on the
   third); verification uses selections 3 and 4, twofold (train on one, test on the
   other plus the remaining trials). TRAIN is the accuracy on the verification training
@@ -107,7 +108,8 @@ def split_lengths(length: int, target: int) -> np.ndarray:
 def make_selections(lengths: np.ndarray, terrain: np.ndarray, trials: np.ndarray,
                     rng: np.random.Generator, n_selections: int, samples: int,
                     terrain_names=None) -> tuple[list[list[Segment]], list[int]]:
-    """The five selections of §5.3.1 (see module docstring).
+    """The five selections of §5.3.1 as consecutive blocks (the previous protocol, see
+    module docstring; :func:`thesis.terrain.selections.select` ``"blocks"``).
 
     Args:
         lengths, terrain: (n_trials,) per trial of the recordings.

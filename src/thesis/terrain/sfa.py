@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SFA", "fit_sfa", "quadratic_expansion", "part_differences"]
+__all__ = ["SFA", "fit_sfa", "sfa_from_moments", "quadratic_expansion", "part_differences"]
 
 
 @dataclass(frozen=True)
@@ -70,17 +70,29 @@ def fit_sfa(x: np.ndarray, lengths: np.ndarray, n_components: int,
     mean = flat.mean(axis=0)
     centred = flat - mean
     cov = centred.T @ centred / len(centred)  # X^T X: numpy calls BLAS syrk
+    d = part_differences(x, lengths)
+    return sfa_from_moments(mean, cov, d.T @ d / max(len(d), 1), n_components, rel_eps)
+
+
+def sfa_from_moments(mean: np.ndarray, cov: np.ndarray, dcov: np.ndarray,
+                     n_components: int, rel_eps: float = 1e-9) -> SFA:
+    """Linear SFA from the training moments (what :func:`fit_sfa` computes from data).
+
+    Args:
+        mean: (D,) mean; cov: (D, D) covariance of the signals; dcov: (D, D) mean of
+            d d^T over the within-part differences d; n_components, rel_eps: as
+            :func:`fit_sfa`.
+    """
     ev, vec = np.linalg.eigh(cov)
     keep = ev > rel_eps * max(float(ev.max()), 1e-300)
     white = vec[:, keep] / np.sqrt(ev[keep])
     n_components = min(int(n_components), white.shape[1])  # fewer inputs: all of them
-    d = part_differences(x, lengths)
     # covariance of the whitened derivative, W^T (D^T D / n) W: for many inputs (SFA2)
     # one syrk over the samples instead of whitening every difference first
-    dcov = white.T @ (d.T @ d / max(len(d), 1)) @ white
-    dev, dvec = np.linalg.eigh(dcov)
+    wd = white.T @ dcov @ white
+    dev, dvec = np.linalg.eigh(wd)
     w = white @ dvec[:, :n_components]
-    return SFA(mean=mean, w=w, delta=dev[:n_components])
+    return SFA(mean=np.asarray(mean, np.float64), w=w, delta=dev[:n_components])
 
 
 def quadratic_expansion(x: np.ndarray) -> np.ndarray:

@@ -1,5 +1,9 @@
 """Report of chapter 5: Tab. 5.3-5.6 beside the thesis's, Fig. 5.3's confusion matrices and
-the invented model and terrain parameters, from ``results/<profile>/ch5/*.nc``.
+the invented model and terrain parameters, from ``results/<profile>/ch5/*.nc``; also the
+measurements of the protocol questions: the terrains' separability per (gait, frequency) cell
+(``separability``), the generalisation map of Tab. 5.3-5.6 (test accuracy on time steps
+whose (terrain, gait, frequency) cell is seen in training vs unseen) and Tab. 5.3 under
+the three selection protocols side by side.
 
 Thesis numbers come from :mod:`thesis.paper`; reproduced numbers are read from the
 datasets (mean ± standard deviation over seeds of the test/train accuracy, percent of time
@@ -129,6 +133,181 @@ def table5_6(results) -> Table:
                  rows=rows, note="Accuracy [% of time steps]. " + BASELINE_NOTE + _note(ds))
 
 
+_LABELS = {"lr": "LR", "elm": "ELM", "rc": "RC", "sfa2": "SFA2", "elm_sfa": "ELM-SFA",
+           "rc_sfa": "RC-SFA"}
+
+
+def separability_verdict(ds) -> str:
+    """One sentence on whether the terrains can be told apart in the cell with the most
+    terrains: per sensor group the best method's mean accuracy against the cell's majority
+    share, and whether it beats that share in every seed (numbers, not a claim)."""
+    n_terr = (ds["trials"] > 0).sum("terrain").values
+    ci = int(np.argmax(n_terr))
+    cell = str(ds["cell"].values[ci])
+    maj = float(ds["majority_share"].values[ci])
+    parts, beaten = [], []
+    for g in ds["selection"].values:
+        acc = ds["accuracy"].isel(cell=ci).sel(selection=g)  # seed, method
+        means = acc.mean("seed").values
+        mi = int(np.nanargmax(means))
+        best = acc.isel(method=mi).values
+        ok = bool(np.all(best > maj))
+        beaten.append(ok)
+        parts.append(f"{g}: {_LABELS.get(str(acc['method'].values[mi]), '?')} "
+                     f"{mean_spread(best)}")
+    head = (f"In {cell} ({int(n_terr[ci])} terrains, majority share {fmt(maj)} %, chance "
+            f"{fmt(float(ds['chance'].values[ci]))} %) the best leave-one-trial-out accuracy "
+            f"is {'; '.join(parts)}. ")
+    trials = ds["trials"].isel(cell=ci).values
+    single = [t for t, n in zip(TERRAINS, trials) if n == 1]
+    if single:
+        head += (f"{', '.join(single)} ha(s) a single trial there, never in its own training "
+                 "set, so its time steps cannot be classified correctly (a limit of this "
+                 "profile's trial table, not of the terrains). ")
+    if len(single) == int(n_terr[ci]):
+        return head + "This profile's trials cannot measure the terrains' separability. "
+    if all(beaten):
+        return head + ("Every group's best method beats the majority share in every seed: "
+                       "given a gait and frequency the simulated terrains can be told apart. ")
+    if any(beaten):
+        return head + ("Only some groups' best method beats the majority share in every seed: "
+                       "the simulated terrains are partly separable given a gait and "
+                       "frequency. ")
+    return head + ("No group's best method beats the majority share in every seed: given a "
+                   "gait and frequency the simulated terrains cannot be told apart reliably. ")
+
+
+def separability_table(results) -> Table:
+    """Leave-one-trial-out accuracy per (gait, frequency) cell, group and method, with the
+    cell's majority share and chance (``ch5/separability``)."""
+    ds = results.get("ch5/separability")
+    if ds is None:
+        return Table(id="separability", title="Separability of the simulated terrains",
+                     thesis_ref="Tab. 5.1 cells", columns=["cell", "group", "trials"]
+                     + BASELINE_COLUMNS, rows=[[NOT_RUN] * 5], note="")
+    methods = [str(m) for m in ds["method"].values]
+    rows = []
+    for ci, cell in enumerate(ds["cell"].values):
+        trials = ds["trials"].isel(cell=ci).values
+        tr = " ".join(f"{t}{int(n)}" for t, n in zip(TERRAINS, trials) if n > 0)
+        for g in ds["selection"].values:
+            acc = ds["accuracy"].isel(cell=ci).sel(selection=g)
+            rows.append([str(cell), str(g), tr] + [_ms(_sel(acc, method=m)) for m in methods]
+                        + [fmt(float(ds["majority_share"].values[ci])),
+                           fmt(float(ds["chance"].values[ci]))])
+    note = (separability_verdict(ds) + "Leave-one-trial-out accuracy [% of the cell's time "
+            "steps], mean ± sd over seeds; every trial classified by the method fitted on "
+            "the cell's other trials, hyper-parameters fixed at the CMA-ES start point "
+            f"({ds.attrs.get('hyper_parameters', '')}), no PCA, {ds.attrs.get('nodes')} "
+            "hidden nodes; a terrain with a single trial in a cell is never in its own "
+            "training set. Baselines: the cell's majority-class share (always answering "
+            "its most frequent terrain) and chance (1 / the cell's terrains).")
+    return Table(id="separability", title="Separability of the simulated terrains: "
+                 "leave-one-trial-out within each gait and frequency",
+                 thesis_ref="Tab. 5.1 cells",
+                 columns=["cell", "group", "trials"] + [_LABELS[m] for m in methods]
+                 + ["majority share", "chance"], rows=rows, note=note)
+
+
+def _gen_rows(ds, table, var, label, coords) -> list:
+    cells = ds[var]
+    for k, v in coords.items():
+        cells = _sel(cells, **{k: v})
+    maj = ds["majority_share_cells"]
+    return [[table, label, _ms(_sel(cells, cells="seen")), _ms(_sel(cells, cells="unseen")),
+             _ms(ds["seen_share"]), _ms(_sel(maj, cells="seen")),
+             _ms(_sel(maj, cells="unseen")), fmt(float(ds["chance"]))]]
+
+
+def generalisation_table(results) -> Table:
+    """Tab. 5.3-5.6's test accuracy split into time steps of seen / unseen (terrain, gait,
+    frequency) cells, per method, with each subset's majority share."""
+    rows = []
+    for key, ref in (("table5_3", "Tab. 5.3"), ("table5_4", "Tab. 5.4"),
+                     ("table5_5", "Tab. 5.5"), ("table5_6", "Tab. 5.6")):
+        ds = results.get(f"ch5/{key}")
+        if ds is None or "accuracy_cells" not in ds:
+            rows.append([ref, NOT_RUN] + [NOT_RUN] * 6)
+            continue
+        acc = ds["accuracy_cells"]
+        sel = [str(s) for s in ds["selection"].values] if "selection" in acc.dims else [None]
+        nodes = [int(n) for n in ds["nodes"].values] if "nodes" in acc.dims else [None]
+        for s in sel:
+            for m in ds["method"].values:
+                for n in nodes:
+                    c = {k: v for k, v in (("selection", s), ("method", str(m)), ("nodes", n))
+                         if v is not None}
+                    label = " ".join(x for x in (s, _LABELS[str(m)], f"{n}N" if n else None)
+                                     if x)
+                    rows += _gen_rows(ds, ref, "accuracy_cells", label, c)
+            if "lr_accuracy_cells" in ds:
+                rows += _gen_rows(ds, ref, "lr_accuracy_cells", f"{s} LR", {"selection": s})
+        if "sfa2_accuracy_cells" in ds:
+            rows += _gen_rows(ds, ref, "sfa2_accuracy_cells", "minimal SFA2", {})
+    return Table(id="generalisation", title="Generalisation map: test accuracy on seen and "
+                 "unseen (terrain, gait, frequency) cells", thesis_ref="Tab. 5.3-5.6",
+                 columns=["table", "group / method", "TEST seen", "TEST unseen",
+                          "seen share of TEST", "majority share seen",
+                          "majority share unseen", "chance"], rows=rows,
+                 note="Accuracy [% of time steps], pooled over the two verification folds, "
+                      "mean ± sd over seeds: 'seen' are the test time steps whose (terrain, "
+                      "gait, frequency) cell has training trials in the fold, 'unseen' the "
+                      "rest (they ask for generalisation across gaits and frequencies, which "
+                      "the thesis's Fig. 5.3 finds hard); each subset's majority-class share "
+                      "is its baseline.")
+
+
+PROTOCOLS = (("table5_3", "primary"), ("table5_3_blocks", "blocks"),
+             ("table5_3_parts", "parts"))
+
+
+def protocols_table(results) -> Table:
+    """Tab. 5.3's test accuracy under the primary selection protocol and its two
+    sensitivity variants, side by side, with baselines and the fold-sharing measurements."""
+    cols = ["group"]
+    for key, label in PROTOCOLS:
+        ds = results.get(f"ch5/{key}")
+        name = label if ds is None else f"{label} ({ds.attrs.get('selection_mode', '?')})"
+        cols += [f"{name} TEST LR", f"{name} TEST RC", f"{name} majority share",
+                 f"{name} seen share", f"{name} shared recordings tuning / verification"]
+    rows = []
+    for s in SEL:
+        row = [s]
+        for key, _ in PROTOCOLS:
+            ds = results.get(f"ch5/{key}")
+            if ds is None or "shared_tuning" not in ds:
+                row += [NOT_RUN] * 5
+                continue
+            row += [_ms(_sel(ds["accuracy"], selection=s, method=m, split="test"))
+                    for m in ("lr", "rc")]
+            row += [baselines(ds)[0], _ms(ds["seen_share"]),
+                    f"{fmt(float(ds['shared_tuning'].mean()))} / "
+                    f"{fmt(float(ds['shared_verification'].mean()))}"]
+        rows.append(row)
+    levels, remaining = [], []
+    for key, label in PROTOCOLS:
+        ds = results.get(f"ch5/{key}")
+        if ds is not None and "remaining_trials" in ds:
+            remaining.append(f"{label} {_ms(ds['remaining_trials'])}")
+        if ds is not None and "selection_levels" in ds.attrs:
+            lv = json.loads(str(ds.attrs["selection_levels"]))
+            per = {t: sorted({v[t] for v in lv.values() if t in v}) for t in TERRAINS}
+            levels.append(f"{label}: " + ", ".join(f"{t} {'/'.join(v)}" for t, v in
+                                                     per.items() if v))
+    return Table(id="table5_3_protocols", title="Tab. 5.3 by selection protocol",
+                 thesis_ref="Tab. 5.3", columns=cols, rows=rows,
+                 note="Test accuracy [% of time steps], mean ± sd over seeds. primary: the "
+                      "profile's ch5.protocol.selection (claims read it); blocks: the "
+                      "previous protocol (consecutive blocks, a recording cut across "
+                      "selections); parts: parts across trials, whole trials assigned to one "
+                      "selection (departure ch5.trial_disjoint_folds). 'shared recordings': "
+                      "% of the validation (tuning) / test (verification) time steps whose "
+                      "recording also feeds the fold's training side, mean over folds and "
+                      "seeds. Selection level per terrain: " + ("; ".join(levels) or NOT_RUN)
+                      + ". Remaining (test-only) trials: " + (", ".join(remaining) or NOT_RUN)
+                      + ". " + BASELINE_NOTE)
+
+
 def setup_table(results) -> Table:
     """The invented model and terrain parameters the results rest on (FACTS §6)."""
     ds = next((results[k] for k in ("ch5/table5_3", "ch5/table5_5", "ch5/table5_4",
@@ -150,7 +329,8 @@ def setup_table(results) -> Table:
 
 
 def tables(results) -> list[Table]:
-    """Tab. 5.3-5.6 and the invented parameters."""
+    """Tab. 5.3-5.6, Tab. 5.3 by protocol, the generalisation map, the separability and
+    the invented parameters."""
     return [
         _two_method(results, "table5_3", "table5_3", "Tab. 5.3", "Supervised: LR and RC per "
                     "sensor group", ("lr", "rc"), {"lr": "LR", "rc": "RC"}),
@@ -159,6 +339,9 @@ def tables(results) -> list[Table]:
                     "RC-SFA per sensor group", ("sfa2", "rc_sfa"),
                     {"sfa2": "SFA2", "rc_sfa": "RC-SFA"}),
         table5_6(results),
+        protocols_table(results),
+        generalisation_table(results),
+        separability_table(results),
         setup_table(results),
     ]
 
