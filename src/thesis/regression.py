@@ -17,20 +17,30 @@ prints what changed.
 
 Hosts. The engine's chapters (ch3, ch4, ch7) and ch5 gave the same smoke numbers on the
 AVX2 and the AVX-512 hosts measured (``jax.max_isa`` pins XLA's code, :mod:`thesis.cpupins`
-numpy's and OpenBLAS's). ch2's training and ch6's closed loops did not: some of XLA's
-kernels still round differently on the AVX-512 host, and training and a chaotic closed
-loop carry a last-bit difference into other error rates and gait outcomes.
+numpy's and OpenBLAS's). ch2's training did not: some of XLA's kernels still round
+differently on the AVX-512 host, and training carries a last-bit difference into other
+error rates. ch6's closed loops carry it into other gait outcomes, and are regressed
+through means over seeds (below).
 The references under ``tests/regression/<profile>/`` are those of :data:`CANONICAL_HOST`
 hosts; a result that differs on hosts of another class (:func:`host_class`) has its own
 reference under ``tests/regression/<profile>-<class>/``, which is used there instead
 (:func:`reference_file`), and ``update`` on such a host writes only those
 (:func:`update_references`).
+
+Chaotic results. ch6's closed loops amplify a rounding-level difference until a run's
+outcome can flip (measured by its perturbed twin runs, :mod:`thesis.embodied.twins`), so
+a single run's numbers are no property of its seed and cannot be regressed one by one
+across hosts. A variable marked ``regression_over=<dim>`` (e.g. ``"seed"``) is compared
+through its mean over that dimension (for labels: the share of each label), within the
+larger of the result's and the reference's ``regression_atol``; that tolerance is not part
+of the recorded policy, because it is measured by the run itself (:func:`chaos_tolerance`).
 """
 
 from __future__ import annotations
 
 import json
 import platform
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +50,11 @@ from thesis.cpupins import cpu_flags, is_x86_64
 
 DEFAULT_RTOL = 1e-3
 DEFAULT_ATOL = 1e-6
+#: Standard deviations of the host-to-host difference of a mean over seeds that a
+#: chaotic variable's tolerance allows (:func:`chaos_tolerance`): two-sided 6e-5 per
+#: comparison under a normal law, so a run of a few hundred compared means fails by chance
+#: in about 1 % of hosts.
+CHAOS_Z = 4.0
 
 
 def is_wall_clock(var: xr.DataArray) -> bool:
@@ -48,12 +63,86 @@ def is_wall_clock(var: xr.DataArray) -> bool:
 
 
 def default_tolerance(name: str, var: xr.DataArray) -> dict:
-    """Tolerance of one variable; wall-clock measurements are recorded but not compared."""
-    return {
+    """Tolerance of one variable; wall-clock measurements are recorded but not compared.
+    A variable compared through its mean over a dimension also records that dimension
+    (``over``, from the attribute ``regression_over``)."""
+    policy = {
         "compare": not is_wall_clock(var),
         "rtol": float(var.attrs.get("regression_rtol", DEFAULT_RTOL)),
         "atol": float(var.attrs.get("regression_atol", DEFAULT_ATOL)),
     }
+    if var.attrs.get("regression_over"):
+        policy["over"] = str(var.attrs["regression_over"])
+    return policy
+
+
+def chaos_tolerance(values, twin, n_over: int, z: float = CHAOS_Z) -> float:
+    """Tolerance of the mean over ``n_over`` runs of a chaotic quantity, from twin runs.
+
+    ``values`` and ``twin`` hold the quantity for the same runs, the twin started from a
+    state perturbed at the rounding level. Another host is another such perturbation, so
+    the difference of a run's value between hosts has the mean square of the twins'
+    difference, d² (pooled over every run and element; labels: 1 where they differ), and
+    a mean over ``n_over`` runs differs by about sqrt(d² / n_over). Returns
+    ``max(DEFAULT_ATOL, z sqrt(d² / n_over))``: no twin differing gives the rounding guard.
+    """
+    a, b = np.asarray(values), np.asarray(twin)
+    if a.shape != b.shape:
+        raise ValueError(f"twin shape {b.shape} != {a.shape}")
+    if _is_text(a) or _is_text(b):
+        sq = (a.astype(str) != b.astype(str)).astype(float)
+    else:
+        a, b = a.astype(float), b.astype(float)
+        both = np.isfinite(a) & np.isfinite(b)
+        sq = np.where(both, (a - b) ** 2, np.where(np.isfinite(a) == np.isfinite(b), 0.0,
+                                                   np.nan))
+    d2 = float(np.nanmean(sq)) if np.isfinite(sq).any() else 0.0
+    if not np.isfinite(sq).all():
+        # a value finite in one twin and NaN in the other: the quantity's own spread
+        spread = np.nanmax(np.abs(np.concatenate([a.ravel(), b.ravel()]))) if a.size else 0
+        d2 = max(d2, float(spread) ** 2 * float(np.mean(~np.isfinite(sq))))
+    return max(DEFAULT_ATOL, z * float(np.sqrt(d2 / max(int(n_over), 1))))
+
+
+def _over_mean(values, dims: list[str], over: str):
+    """(labels or None, mean over ``over``) of reference/result values: numeric values give
+    their NaN-aware mean; labels give the share of each label (labels sorted)."""
+    a = np.asarray(values)
+    axis = dims.index(over)
+    if _is_text(a):
+        return a.astype(str), axis
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices stay NaN
+        return None, np.nanmean(a.astype(float), axis=axis)
+
+
+def _shares(labels: np.ndarray, axis: int, names: list[str]) -> np.ndarray:
+    return np.stack([(labels == n).mean(axis=axis) for n in names])
+
+
+def _compare_over(name: str, var: xr.DataArray, spec: dict, policy: dict) -> list[str]:
+    """Compare a ``regression_over`` variable through its mean (label shares) over a dim."""
+    over = policy["over"]
+    if over not in var.dims:
+        return [f"variable {name!r} has no dimension {over!r} to compare over"]
+    atol = max(float(policy["atol"]), float(spec.get("atol", DEFAULT_ATOL)))
+    dims = list(var.dims)
+    got_labels, got = _over_mean(var.values, dims, over)
+    want_labels, want = _over_mean(spec["values"], spec["dims"], over)
+    if (got_labels is None) != (want_labels is None):
+        return [f"variable {name!r}: labels against numbers"]
+    if got_labels is not None:
+        axis = got
+        names = sorted(set(got_labels.ravel()) | set(want_labels.ravel()))
+        got, want = _shares(got_labels, axis, names), _shares(want_labels, axis, names)
+    if got.shape != want.shape:
+        return [f"variable {name!r} mean over {over} shape {got.shape} != {want.shape}"]
+    if np.allclose(got, want, rtol=policy["rtol"], atol=atol, equal_nan=True):
+        return []
+    with np.errstate(invalid="ignore"):
+        err = np.nanmax(np.abs(got - want)) if got.size else 0.0
+    return [f"variable {name!r}: mean over {over} differs beyond rtol={policy['rtol']}, "
+            f"atol={atol:.4g} (max abs diff {err:.4g})"]
 
 
 def _jsonable(a) -> list | float | str:
@@ -104,10 +193,15 @@ def compare(ds: xr.Dataset, ref: dict) -> list[str]:
             continue
         policy = default_tolerance(name, var)
         recorded = {k: spec.get(k) for k in policy}
-        if recorded != policy:
+        if "over" in policy:  # the tolerance is measured by each run, not a policy
+            recorded["atol"] = policy["atol"]
+        if recorded != policy or ("over" in spec) != ("over" in policy):
             problems.append(f"variable {name!r}: the reference records {recorded}, the "
                             f"result asks for {policy} (stale reference)")
         if not policy["compare"]:
+            continue
+        if "over" in policy:
+            problems += _compare_over(name, var, spec, policy)
             continue
         got = np.asarray(_jsonable(var.values), dtype=object)
         want = np.asarray(spec["values"], dtype=object)

@@ -280,3 +280,26 @@ def test_missing_and_malformed_data_are_not_run():
     assert claims.get("ch6.extends_to_walk").check({}).status == "not_run"
     v = check("ch6.trot_h50_b5_stable", trot=xr.Dataset())
     assert v.status == "not_run" and "layout mismatch" in v.detail
+
+
+def test_a_verdict_the_perturbed_twins_move_is_fragile():
+    """Claims are decided on the runs and on their perturbed twins
+    (:func:`thesis.claims.perturbed_view`): the same verdict is not fragile, a moved one
+    is, and a result without twins carries no twin verdict."""
+    ds = sweep(["h50_b5"], rows(1))
+    steady = ds.assign(success_perturbed=ds["success"], outcome_perturbed=ds["outcome"])
+    moved = ds.assign(success_perturbed=ds["success"] * 0,
+                      outcome_perturbed=ds["outcome"].copy(data=np.full((1, SEEDS), "erratic")))
+    claim = claims.get("ch6.trot_h50_b5_stable")
+    same = claims.evaluate(claim, {"ch6/trot": steady})
+    assert same["status"] == "reproduced" and same["fragile"] is False
+    assert same["perturbed"]["status"] == "reproduced"
+    flip = claims.evaluate(claim, {"ch6/trot": moved})
+    assert flip["status"] == "reproduced" and flip["fragile"] is True
+    assert flip["perturbed"]["status"] == "not_reproduced"
+    plain = claims.evaluate(claim, {"ch6/trot": ds})
+    assert "perturbed" not in plain and "fragile" not in plain
+    view, twinned = claims.perturbed_view({"ch6/trot": moved, "ch6/walk": ds})
+    assert twinned == {"ch6/trot"} and view["ch6/walk"] is ds
+    assert float(view["ch6/trot"]["success"].sum()) == 0.0
+    assert float(moved["success"].sum()) == 1.0  # the input is not changed

@@ -38,7 +38,23 @@ def _run(teacher, seed):
     wh, wb = C.draw_hidden(np.random.default_rng(seed), 6)
     return dict(teacher=teacher, **PR.signals(SCH, DT * SUB, N), w_hidden=wh, w_bias=wb,
                 hidden_mask=np.ones(6), slot_mask=np.ones(3), identity=False,
-                noise_std=0.01, noise_seed=seed)
+                noise_std=0.01, noise_seed=seed, perturb=0.0, perturb_seed=seed)
+
+
+def test_perturbed_twin_starts_at_the_rounding_level(robot):
+    """A twin's initial positions differ at 1e-7 relative (per coordinate, seeded); a zero
+    perturbation returns the state bit for bit."""
+    _, state = robot
+    same = loop.perturbed(state, 0.0, 3)
+    np.testing.assert_array_equal(np.asarray(same.pos), np.asarray(state.pos))
+    twin = loop.perturbed(state, 1e-7, 3)
+    pos = np.asarray(state.pos)
+    rel = np.abs(np.asarray(twin.pos)[pos != 0] / pos[pos != 0] - 1.0)
+    assert 0 < rel.max() < 1e-6 and np.mean(rel > 0) > 0.3  # most move by an ulp or more
+    again = loop.perturbed(state, 1e-7, 3)
+    np.testing.assert_array_equal(np.asarray(again.pos), np.asarray(twin.pos))
+    other = loop.perturbed(state, 1e-7, 4)
+    assert not np.array_equal(np.asarray(other.pos), np.asarray(twin.pos))
 
 
 def test_encoders_are_hip_and_knee_in_thesis_angles(robot):

@@ -26,7 +26,7 @@ from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
-           "evaluate", "evaluate_all"]
+           "evaluate", "evaluate_all", "perturbed_view"]
 
 CLAIMS: tuple[Claim, ...] = (
     *ch2.CLAIMS, *ch3.CLAIMS, *ch4.CLAIMS, *ch5.CLAIMS, *ch6.CLAIMS, *ch7.CLAIMS, *ch8.CLAIMS,
@@ -63,14 +63,40 @@ def _paper_entry(key: str) -> dict[str, object]:
             "value": e.value, "unit": e.unit}
 
 
-def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, object]:
+#: Suffix of a perturbed twin's variable (:mod:`thesis.embodied.twins`).
+TWIN_SUFFIX = "_perturbed"
+
+
+def perturbed_view(results: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Dataset], set]:
+    """(results with every variable replaced by its perturbed twin's ``<name>_perturbed``
+    where a dataset has one, the keys of the datasets that had twins). Deciding a claim
+    on the view decides it as the twin runs would have (issue: a verdict is fragile when
+    a rounding-level perturbation of the runs moves it)."""
+    view, twinned = dict(results), set()
+    for key, ds in results.items():
+        names = [n for n in ds.data_vars if n.endswith(TWIN_SUFFIX)]
+        if not names:
+            continue
+        swapped = ds.copy()
+        for n in names:
+            swapped[n.removesuffix(TWIN_SUFFIX)] = ds[n]
+        view[key] = swapped
+        twinned.add(key)
+    return view, twinned
+
+
+def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
+             perturbed: tuple[Mapping[str, xr.Dataset], set] | None = None
+             ) -> dict[str, object]:
     """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
     units of the variables it reads (``units``), the departures of the results it rests on
     (``departures``, each with ``in_effect``) and its ``reading``
-    (:func:`thesis.claims.basis.reading`)."""
+    (:func:`thesis.claims.basis.reading`). Where a result the claim requires carries
+    perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
+    ``perturbed``: the verdict decided on the twins, and ``fragile`` (the two differ)."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
-    return {
+    out = {
         "id": claim.id, "chapter": claim.chapter, "section": claim.section,
         "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
         "reads": list(claim.reads), "units": _units(claim.reads, results),
@@ -78,6 +104,12 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset]) -> dict[str, objec
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
     }
+    view, twinned = perturbed_view(results) if perturbed is None else perturbed
+    if twinned & set(claim.requires):
+        twin = claim.check(view)
+        out["perturbed"] = {"status": twin.status, "detail": twin.detail}
+        out["fragile"] = twin.status != verdict.status
+    return out
 
 
 def evaluate_all(results: Mapping[str, xr.Dataset], *,
@@ -88,7 +120,8 @@ def evaluate_all(results: Mapping[str, xr.Dataset], *,
     :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
     is the Student t interval), so it does not change a verdict.
     """
+    view = perturbed_view(results)
     if n_resamples is None:
-        return [evaluate(c, results) for c in CLAIMS]
+        return [evaluate(c, results, view) for c in CLAIMS]
     with stats.resamples(n_resamples):
-        return [evaluate(c, results) for c in CLAIMS]
+        return [evaluate(c, results, view) for c in CLAIMS]

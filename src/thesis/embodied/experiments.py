@@ -31,6 +31,7 @@ from thesis.embodied import protocol as PR
 from thesis.embodied import sweep as S
 from thesis.embodied import teacher as TE
 from thesis.embodied import loop
+from thesis.embodied import twins
 from thesis.gaits import trajectories as T
 
 Condition = S.Condition
@@ -74,6 +75,11 @@ def teacher(ctx) -> xr.Dataset:
     dt = S.controller_dt(cfg)
     runs, labels, scheds, _, n = S.build_runs(conditions, [0], teachers, cfg, ctx.root_seed,
                                               open_loop=True)
+    k_runs, rel = len(runs), S.perturbation(cfg)
+    if rel > 0:  # the perturbed twins of the screen (thesis.embodied.twins)
+        t_runs, t_labels, *_ = S.build_runs(conditions, [0], teachers, cfg, ctx.root_seed,
+                                            open_loop=True, perturb=rel)
+        runs, labels = runs + t_runs, labels + t_labels
     rec, timing = loop.simulate(model, state, runs, int(cfg["control"]["substeps"]),
                                 experiment=ctx.key, labels=labels)
     ctx.log.info("ch6 teacher screen: %d candidates x %d steps, compile %.1f s, rollout "
@@ -92,12 +98,21 @@ def teacher(ctx) -> xr.Dataset:
             res[k][i] = m[k]
         for j, name in enumerate(TE.PARAM_NAMES[fam_name]):
             params[i, names.index(name)] = p[j]
+    twin = {k: np.full(k_all, np.nan) for k in res}
+    if rel > 0:
+        for i, sch in enumerate(scheds):
+            m = screen_metrics(rec["trunk_pos"][k_runs + i], rec["trunk_up"][k_runs + i], sch,
+                               dt, crit)
+            for k in twin:
+                twin[k][i] = m[k]
     gaits = [c[0] for c in cands]
-    chosen = {}
+    chosen, chosen_twin = {}, {}
     for gait in TE.GAITS:
         idx = np.array([i for i in range(k_all) if gaits[i] == gait])
         chosen[gait] = int(idx[TE.choose(res["passed"][idx], res["up_seconds"][idx],
                                           res["speed"][idx])])
+        chosen_twin[gait] = (int(idx[TE.choose(twin["passed"][idx], twin["up_seconds"][idx],
+                                               twin["speed"][idx])]) if rel > 0 else -1)
     cd = ("candidate",)
     g_idx = [chosen[g] for g in TE.GAITS]
     ds = xr.Dataset(
@@ -120,6 +135,14 @@ def teacher(ctx) -> xr.Dataset:
              }.items() for v in [res[k]]},
              chosen=(("gait",), np.array(g_idx), dict(
                  units="1", long_name="index of the chosen candidate")),
+             candidate_passed_perturbed=(cd, twin["passed"], dict(
+                 units="1", long_name="passed, the candidate's perturbed twin (NaN: no "
+                                      "twins, ch6.perturbation.relative = 0)")),
+             candidate_speed_perturbed=(cd, twin["speed"], dict(
+                 units="m s-1", long_name="running-window speed, the perturbed twin")),
+             chosen_perturbed=(("gait",), np.array([chosen_twin[g] for g in TE.GAITS]), dict(
+                 units="1", long_name="index of the candidate the screen chooses from the "
+                                      "perturbed twins (-1: no twins)")),
              teacher_family=(("gait",), np.array([cands[i][1] for i in g_idx]), dict(
                  units="1", long_name="family of the chosen teacher")),
              teacher_params=(("gait", "parameter"), params[g_idx], dict(
@@ -145,6 +168,7 @@ def teacher(ctx) -> xr.Dataset:
         coords=dict(candidate=[c.name for c in conditions], parameter=names,
                     gait=list(TE.GAITS), leg=["LF", "RF", "LH", "RH"]))
     ds.attrs.update(thesis_ref="§6.4", seeds=[int(s) for s in table["seed"].values],
+                    perturbation_relative=rel,
                     frequency=tc["frequency"], stride_scales=list(tc["stride_scales"]),
                     walk_duty=wc["duty"])
     return ds
@@ -238,15 +262,22 @@ _JOINT_SPACE = ("rh_teacher", "rh_learned", "success", "outcome", "n_signals", "
                 "buffer", "gait_period", "role")
 
 
+def _with_twins(src: xr.Dataset, names) -> list[str]:
+    """``names`` and, where ``src`` has them, their perturbed twins and ``flipped``
+    (:mod:`thesis.embodied.twins`), so a figure's claims can be decided on both."""
+    extra = [n + twins.SUFFIX for n in names if n + twins.SUFFIX in src]
+    return list(names) + extra + (["flipped"] if extra and "flipped" in src else [])
+
+
 def _joint_space(ctx, name: str, ref: str, base_only: bool) -> xr.Dataset:
     src = xr.load_dataset(ctx.input(name))
     if base_only:
         src = src.isel(config=np.flatnonzero(src["role"].values == "base"))
-    ds = src[list(_JOINT_SPACE)]
+    ds = src[_with_twins(src, _JOINT_SPACE)]
     ds.attrs = {k: v for k, v in src.attrs.items() if k.startswith("teacher_")
                 or k in ("controller_dt",)}
     ds.attrs.update(thesis_ref=ref, seeds=[int(s) for s in src["seed"].values], source=name)
-    return ds
+    return twins.tolerances(ds)
 
 
 def fig6_4(ctx) -> xr.Dataset:
@@ -274,8 +305,8 @@ def fig6_6(ctx) -> xr.Dataset:
     parts = []
     for n, ds in src.items():
         ds = ds.isel(config=np.flatnonzero(ds["role"].values == "base"))
-        part = ds[["train_mse", "end_mse", "success", "outcome", "hidden", "buffer",
-                   "n_signals", "mse_curve"]]
+        part = ds[_with_twins(ds, ("train_mse", "end_mse", "success", "outcome", "hidden",
+                                   "buffer", "n_signals", "mse_curve"))]
         part = part.assign_coords(config=[f"{n}/{c}" for c in ds["config"].values])
         parts.append(part.rename(config="setting"))
     table = xr.concat(parts, dim="setting", join="outer")
@@ -288,9 +319,13 @@ def fig6_6(ctx) -> xr.Dataset:
             raise KeyError(f"ch6.fig6_6.curves: {key!r} is not a setting of "
                            f"{', '.join(FIG6_6_SOURCES)}; have {setting}")
         names.append(key)
-    curve = table["mse_curve"].sel(setting=names).rename(setting="curve")
-    out = table.drop_vars("mse_curve")
-    out["curve_mse"] = curve.assign_attrs(table["mse_curve"].attrs)
+    out = table
+    for name in ("mse_curve", "mse_curve" + twins.SUFFIX):
+        if name not in table:
+            continue
+        curve = table[name].sel(setting=names).rename(setting="curve")
+        out = out.drop_vars(name)
+        out[name.replace("mse_curve", "curve_mse")] = curve.assign_attrs(table[name].attrs)
     out["curve_kind"] = (("curve",), np.array([c["kind"] for c in curves]), dict(
         units="1", long_name="kind of curve of Fig. 6.6"))
     out["source"] = (("setting",), np.array([s.split("/")[0] for s in setting]), dict(
@@ -301,4 +336,4 @@ def fig6_6(ctx) -> xr.Dataset:
     out.attrs = {k: v for k, v in src["trot"].attrs.items()
                  if k.startswith(("protocol_", "criteria_"))}
     out.attrs.update(thesis_ref="Fig. 6.6, §6.6", seeds=[int(s) for s in out["seed"].values])
-    return out
+    return twins.tolerances(out)

@@ -68,10 +68,22 @@ def encoder_offsets() -> np.ndarray:
     return np.asarray(O.build_offsets(), np.float64)[list(HIP_KNEE)]
 
 
+def perturbed(state0, relative, seed):
+    """``state0`` with every body's position scaled by ``1 + relative * u``, u standard
+    normal per coordinate from ``jax.random.key(seed)``: a twin run started at the
+    rounding level (``relative`` ~1e-7 is about one float32 ulp, so a coordinate moves
+    by 0, 1 or a few ulp) measures how far a closed loop
+    carries a last-bit difference (:mod:`thesis.embodied.twins`). ``relative = 0`` returns
+    the state bit for bit."""
+    u = jax.random.normal(jax.random.key(seed), state0.pos.shape, state0.pos.dtype)
+    return state0.replace(pos=state0.pos + state0.pos * (relative * u))
+
+
 def _run_one(model, state0, run, substeps: int, n_steps: int):
     """One run: returns the per-step recordings (dict of (n_steps, ...) arrays)."""
     dofs = encoder_dofs(model)
     dtype = state0.pos.dtype
+    state0 = perturbed(state0, run["perturb"].astype(dtype), run["perturb_seed"])
     offsets = jnp.asarray(encoder_offsets(), dtype)
     trunk = O.trunk_index(model)
     key = jax.random.key(run["noise_seed"])
@@ -136,9 +148,11 @@ def pack_runs(runs: list[dict], dtype=np.float32) -> dict:
     Each run is a dict with ``teacher`` (T, 12) commands [rad]; ``share``, ``torque``,
     ``learn``, ``stats`` (T,) from :func:`thesis.embodied.protocol.signals`;
     ``w_hidden`` (H_max, 8), ``w_bias`` (H_max,), ``hidden_mask`` (H_max,),
-    ``slot_mask`` (S,), ``identity`` (bool), ``noise_std`` (float), ``noise_seed`` (int).
+    ``slot_mask`` (S,), ``identity`` (bool), ``noise_std`` (float), ``noise_seed`` (int),
+    ``perturb`` (float: relative size of the initial-state perturbation, 0 for none) and
+    ``perturb_seed`` (int) (:func:`perturbed`).
     """
-    ints = {"noise_seed": np.uint32, "identity": np.bool_}
+    ints = {"noise_seed": np.uint32, "perturb_seed": np.uint32, "identity": np.bool_}
     out = {}
     for k in runs[0]:
         out[k] = np.stack([np.asarray(r[k]) for r in runs]).astype(ints.get(k, dtype))

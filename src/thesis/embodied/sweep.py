@@ -31,6 +31,7 @@ from thesis.embodied import criteria as K
 from thesis.embodied import loop
 from thesis.embodied import protocol as PR
 from thesis.embodied import teacher as TE
+from thesis.embodied import twins
 
 O = importlib.import_module("thesis.physics.models.oncilla")
 
@@ -133,8 +134,13 @@ def _moving_average(x, n: int):
     return np.convolve(x, k, mode="same") / np.convolve(np.ones_like(x), k, mode="same")
 
 
-def build_runs(conditions, seeds, teachers, cfg, root_seed: int, *, open_loop=False):
+def build_runs(conditions, seeds, teachers, cfg, root_seed: int, *, open_loop=False,
+               perturb: float = 0.0):
     """Per-run inputs of :func:`thesis.embodied.loop.simulate` for conditions x seeds.
+
+    ``perturb`` > 0 gives the perturbed twins of the runs (:mod:`thesis.embodied.twins`):
+    the same inputs, the initial body positions perturbed at that relative size by the
+    seed's stream ``"ch6/perturb"`` (the same perturbation for every condition of a seed).
 
     Returns (runs, labels, schedules, tables, n_steps) where ``tables`` maps a gait to its
     (n_steps, 12) teacher command table.
@@ -158,8 +164,10 @@ def build_runs(conditions, seeds, teachers, cfg, root_seed: int, *, open_loop=Fa
                 hidden_mask=(np.arange(h_max) < c.width).astype(np.float32),
                 slot_mask=(np.arange(slots) < c.buffer + 1).astype(np.float32),
                 identity=c.linear, noise_std=float(cfg["control"]["input_noise"]),
-                noise_seed=seeding.int_seed(root_seed, "ch6/noise", s)))
-            labels.append((c.name, s))
+                noise_seed=seeding.int_seed(root_seed, "ch6/noise", s),
+                perturb=float(perturb), perturb_seed=seeding.int_seed(root_seed, "ch6/perturb",
+                                                                      s)))
+            labels.append((c.name if perturb == 0 else f"{c.name} (perturbed twin)", s))
     return runs, labels, scheds, tables, n
 
 
@@ -170,9 +178,19 @@ def commands_sent(rec, runs, i):
     return share * runs[i]["teacher"] + (1.0 - share) * rec["y_hat"][i]
 
 
+def perturbation(cfg: dict) -> float:
+    """Relative size of the twins' initial-state perturbation (``ch6.perturbation``; 0:
+    no twins)."""
+    return float(cfg["perturbation"]["relative"])
+
+
 def run(ctx, conditions: list[Condition], *, thesis_ref: str,
         joint_space: bool = False) -> xr.Dataset:
     """Train and test every condition for every seed; the dataset of outcomes and metrics.
+
+    With ``ch6.perturbation.relative`` > 0 every run also runs as its perturbed twin in
+    the same batch, and the dataset carries the twins' values, the flips and the
+    regression policy of :func:`thesis.embodied.twins.attach`.
 
     Args:
         ctx: run context (``ch6`` config, ``teacher`` input).
@@ -188,12 +206,28 @@ def run(ctx, conditions: list[Condition], *, thesis_ref: str,
     dt = controller_dt(cfg)
     runs, labels, scheds, tables, n = build_runs(conditions, seeds, teachers, cfg,
                                                  ctx.root_seed)
+    rel = perturbation(cfg)
+    k = len(runs)
+    if rel > 0:
+        twin_runs, twin_labels, *_ = build_runs(conditions, seeds, teachers, cfg,
+                                                ctx.root_seed, perturb=rel)
+        runs, labels = runs + twin_runs, labels + twin_labels
     rec, timing = loop.simulate(model, state, runs, int(cfg["control"]["substeps"]),
                                 experiment=ctx.key, labels=labels)
     ctx.log.info("ch6 %s: %d runs x %d steps, compile %.1f s, rollout %.1f s", ctx.key,
                  len(runs), n, timing["compile_seconds"], timing["rollout_seconds"])
-    return evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing,
-                    thesis_ref=thesis_ref, joint_space=joint_space)
+    ds = evaluate({key: v[:k] for key, v in rec.items()}, runs[:k], conditions, seeds,
+                  scheds, teachers, cfg, timing, thesis_ref=thesis_ref,
+                  joint_space=joint_space)
+    if rel <= 0:
+        return ds
+    twin = evaluate({key: v[k:] for key, v in rec.items()}, runs[k:], conditions, seeds,
+                    scheds, teachers, cfg, timing, thesis_ref=thesis_ref,
+                    joint_space=joint_space)
+    out = twins.attach(ds, twin, rel)
+    for name in ("robot_seconds", "robot_seconds_per_wall_second"):  # twins simulated too
+        out[name] = out[name].copy(data=out[name].values * len(runs) / k)
+    return out
 
 
 def evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing, *, thesis_ref: str,

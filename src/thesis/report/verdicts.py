@@ -69,6 +69,18 @@ def split(deps) -> tuple[list, list, list]:
             [d for d in deps if d["kind"] != "deviation"])
 
 
+def twin_text(c: dict) -> str:
+    """The verdict on the perturbed twin runs (:func:`thesis.claims.perturbed_view`):
+    "" where the claim's results have no twins."""
+    twin = c.get("perturbed")
+    if not twin:
+        return ""
+    status = str(twin.get("status", "")).replace("_", " ")
+    if c.get("fragile"):
+        return f"FRAGILE: the perturbed twin runs give '{status}'"
+    return f"the perturbed twin runs give the same verdict ({status})"
+
+
 def status_html(status: str) -> str:
     """A coloured badge of a verdict status."""
     colour = STATUS_COLOURS.get(status, "#777")
@@ -208,7 +220,9 @@ def claims_html(claims: list[dict], chapter: int | None = None) -> str:
             f"</code> {html.escape(c.get('section', ''))}</span></td>",
             f"<td>{status_html(c.get('status', 'not_run'))}<br><b>"
             f"{html.escape(c.get('reading', ''))}</b><br><span class=note>"
-            f"{html.escape(c.get('detail', ''))}</span></td>",
+            f"{html.escape(c.get('detail', ''))}</span>"
+            + (f"<br><span class=\"{'fragile' if c.get('fragile') else 'note'}\">"
+               f"{html.escape(twin_text(c))}</span>" if twin_text(c) else "") + "</td>",
             f"<td>{_numbers_html(c)}</td>",
             f"<td>{_deps_html(c.get('departures', []))}</td>",
         ]) + "</tr>")
@@ -315,8 +329,9 @@ def summary_lines(claims: list[dict], chapter: int) -> list[str]:
     for c in claims:
         if c.get("chapter") != chapter:
             continue
+        twin = f" ({twin_text(c)})" if twin_text(c) else ""
         lines.append(f"- **{c.get('reading') or c.get('status', '')}** `{c.get('id')}`: "
-                     f"{c.get('detail', '')}")
+                     f"{c.get('detail', '')}{twin}")
         on, off, choices = split(c.get("departures", []))
         for d in on + off:
             lines.append(f"  - {departure_text(d)}")
