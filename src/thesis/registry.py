@@ -19,6 +19,7 @@ EXPERIMENTS: dict[str, str] = {
     "ch2/table2_2_rnn_spn": "thesis.chirpz.experiments:table2_2_rnn_spn",
     "ch2/table2_2": "thesis.chirpz.experiments:table2_2",
     "ch2/chirpz_scaling": "thesis.chirpz.experiments:chirpz_scaling",
+    "ch2/train_step": "thesis.chirpz.train_bench:train_step",
     # ch3: Oncilla gaits and turning
     "ch3/table3_1": "thesis.gaits.experiments:table3_1",
     "ch3/fig3_4": "thesis.gaits.experiments:fig3_4",
@@ -59,6 +60,9 @@ EXPERIMENTS: dict[str, str] = {
     "ch5/table5_5": "thesis.terrain.experiments:table5_5",
     "ch5/table5_6": "thesis.terrain.experiments:table5_6",
     "ch5/fig5_3": "thesis.terrain.experiments:fig5_3",
+    "ch5/separability": "thesis.terrain.separability:separability",
+    "ch5/table5_3_blocks": "thesis.terrain.experiments:table5_3_blocks",
+    "ch5/table5_3_parts": "thesis.terrain.experiments:table5_3_parts",
     # ch7: differentiable physics engine
     "ch7/ball": "thesis.diffphys.ball:ball",
     "ch7/arm_fixed": "thesis.diffphys.arm:arm_fixed",
@@ -69,20 +73,24 @@ EXPERIMENTS: dict[str, str] = {
     "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
     # the engine's own benchmarks (results/<profile>/physics/)
     "physics/sphere_field": "thesis.physics.bench:sphere_field",
+    # model-level checks of the Oncilla (results/<profile>/model/)
+    "model/oncilla": "thesis.modelcheck.bench:oncilla",
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
 BENCHMARKS: dict[str, str] = {
     "chirpz": "ch2/chirpz_scaling",
+    "chirpz-train": "ch2/train_step",
     "physics": "ch7/table7_1",
     "mjx": "ch7/table7_1_peers",
     "field": "physics/sphere_field",
+    "oncilla": "model/oncilla",
 }
 
 
 #: What every chapter 6 sweep reads, and each sweep's own section (thesis.embodied).
 _CH6_RUN = ("ch6.seeds", "ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
-            "ch6.record")
+            "ch6.record", "ch6.perturbation")
 _CH6_SWEEPS = {"trot": ("ch6.trot", "ch6.power_off"), "walk": ("ch6.walk",),
                "linear_feedback": (), "minimal_hidden": ("ch6.minimal_hidden",),
                "minimal_buffer": ("ch6.minimal_buffer",),
@@ -102,6 +110,8 @@ READS: dict[str, tuple[str, ...]] = {
                              "ch2.rnn_spn"),
     "ch2/table2_2": ("ch2.seeds", "ch2.train", "ch2.ffn_spn", "ch2.rnn_spn"),
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
+    "ch2/train_step": ("ch2.train_bench", "ch2.chirpz_output", "ch2.ffn_spn", "ch2.rnn_spn",
+                       "ch2.train", "ch2.data.canvas", "ch2.data.n_digits"),
     # ch4: a simulation reruns only when its protocol, swarm or condition changes, not
     # when a table or figure setting does
     "ch4/flat": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",
@@ -126,7 +136,7 @@ READS: dict[str, tuple[str, ...]] = {
     "ch4/fig4_10": (),
     **{f"ch6/{name}": _CH6_RUN + extra for name, extra in _CH6_SWEEPS.items()},
     "ch6/teacher": ("ch6.model", "ch6.control", "ch6.protocol", "ch6.criteria",
-                    "ch6.teacher", "ch6.walk"),
+                    "ch6.teacher", "ch6.walk", "ch6.perturbation"),
     "ch6/fig6_4": ("ch6.seeds",),
     "ch6/fig6_5": ("ch6.seeds",),
     "ch6/fig6_6": ("ch6.fig6_6",),
@@ -140,6 +150,8 @@ READS: dict[str, tuple[str, ...]] = {
     "ch7/table7_1": ("physics.bench",),
     "ch7/table7_1_peers": ("physics.bench",),
     "physics/sphere_field": ("physics.sphere_field",),
+    "model/oncilla": ("physics.oncilla_model", "ch4.model", "ch4.protocol.settle",
+                      "ch4.protocol.fall_height"),
 }
 
 

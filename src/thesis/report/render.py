@@ -35,7 +35,7 @@ margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
 h1{font-size:1.6em}h2{border-bottom:2px solid #ddd;padding-bottom:.2em;margin-top:2em}
 table{border-collapse:collapse;margin:1em 0;font-size:.9em}
 th,td{border:1px solid #ccc;padding:.3em .6em;text-align:left;vertical-align:top}
-th{background:#f3f3f3}.note{color:#555;font-size:.85em}
+th{background:#f3f3f3}.note{color:#555;font-size:.85em}.fragile{color:#b2182b;font-weight:bold;font-size:.85em}
 .status{font-weight:bold;color:#fff;padding:.1em .4em;border-radius:3px;white-space:nowrap}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #eee}
 figcaption{font-size:.9em;color:#444}.notrun{color:#777;font-style:italic}
@@ -137,7 +137,8 @@ def _figure_html(f: Figure) -> str:
 def claims_table(claims: list[dict]) -> Table:
     """The claims as a :class:`Table`: sentence, verdict, the numbers in words (thesis
     and measured, with intervals) and the departures."""
-    rows = [[c.get("id", ""), c.get("quote", ""), c.get("reading", ""), c.get("detail", ""),
+    rows = [[c.get("id", ""), c.get("quote", ""), c.get("reading", ""),
+             " ".join(x for x in (c.get("detail", ""), V.twin_text(c)) if x),
              "; ".join(V.paper_words(c.get("paper"))),
              "; ".join(V.measured_words(c.get("measured"))),
              "; ".join(V.departure_text(d) for d in c.get("departures", []))]
@@ -222,7 +223,9 @@ def _page(title: str, body: str) -> str:
 
 
 def _chapter_number(ch: str) -> int:
-    return int(ch.removeprefix("ch"))
+    """Thesis chapter of a report section; -1 for a section that is no chapter (``model``,
+    the simulated robot's own checks), which no claim belongs to."""
+    return int(ch.removeprefix("ch")) if ch.startswith("ch") else -1
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
