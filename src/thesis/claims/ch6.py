@@ -323,7 +323,7 @@ def memoryless_feedback_trots(results: Results) -> Verdict:
                        f"{measured['min_hidden_per_seed_median']:.3g} (thesis {thesis_h:g})")
     if all(j == "fails" for j in judged):
         return Verdict("not_reproduced", measured, statistic,
-                       f"every H of {list(hidden)} fails at B = 0")
+                       f"every H of {[int(h) for h in hidden]} fails at B = 0")
     best = int(np.nanargmax(rates))
     return Verdict("inconclusive", measured, statistic,
                    f"no H works after Holm's correction over {len(hidden)} values (best "
