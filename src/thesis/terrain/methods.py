@@ -151,12 +151,8 @@ def fit(method: str, params: dict, weights: Draw | None, train: Parts, n_classes
     d = train.x.shape[2]
     k = max(1, min(d, int(round(float(params["pca_rate"]) * d))))
     pca = PCA(n_components=k, svd_solver="covariance_eigh").fit(flat(train.x, train.length))
-    w_in = w_res = None
-    if method in _HIDDEN:
-        w_in = weights.w_in[:, :k] * float(params["input_scaling"])
-        if _HIDDEN[method] == "esn":
-            w_res = weights.w_res * float(params["spectral_radius"])
-    f = Fitted(method=method, params=dict(params), pca=pca, w_in=w_in, w_res=w_res)
+    f = Fitted(method=method, params=dict(params), pca=pca,
+               **_scaled_weights(method, params, weights, k))
     z = _pca_project(pca, train.x)
     h = _expand(f, z, train.length)
     labels = train.labels()
@@ -171,6 +167,17 @@ def fit(method: str, params: dict, weights: Draw | None, train: Parts, n_classes
                         max_iter=ica_max_iter, fun=logcosh_contrast).fit(slow)
     f.bayes = readout.fit_bayes(f.ica.transform(slow), labels, n_classes, n_bins)
     return f
+
+
+def _scaled_weights(method: str, params: dict, weights: Draw | None, n_inputs: int) -> dict:
+    """``w_in`` (the first ``n_inputs`` input columns times the input scaling) and
+    ``w_res`` (times the spectral radius) of a hidden-layer method; None where unused."""
+    w_in = w_res = None
+    if method in _HIDDEN:
+        w_in = weights.w_in[:, :n_inputs] * float(params["input_scaling"])
+        if _HIDDEN[method] == "esn":
+            w_res = weights.w_res * float(params["spectral_radius"])
+    return dict(w_in=w_in, w_res=w_res)
 
 
 def predict(f: Fitted, parts: Parts) -> np.ndarray:
@@ -197,12 +204,9 @@ def expand_raw(method: str, params: dict, weights: Draw | None, parts: Parts) ->
     if method not in PARAMS:
         raise ValueError(f"unknown method {method!r}; one of {METHODS}")
     d = parts.x.shape[2]
-    w_in = w_res = None
-    if method in _HIDDEN:
-        w_in = weights.w_in[:, :d] * float(params["input_scaling"])
-        if _HIDDEN[method] == "esn":
-            w_res = weights.w_res * float(params["spectral_radius"])
-    f = Fitted(method=method, params=dict(params), pca=None, w_in=w_in, w_res=w_res)
+    f = Fitted(method=method, params=dict(params), pca=None,
+               **_scaled_weights(method, params, weights, d))
+    w_in = f.w_in
     width = w_in.shape[0] if w_in is not None else (d * (d + 1) // 2 if method == "sfa2"
                                                     else d)
     out = [flat(_expand(f, c.x, c.length), c.length) for c in _chunks(parts, max(width, d))]
