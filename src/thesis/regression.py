@@ -104,20 +104,16 @@ def chaos_tolerance(values, twin, n_over: int, z: float = CHAOS_Z) -> float:
     return max(DEFAULT_ATOL, z * float(np.sqrt(d2 / max(int(n_over), 1))))
 
 
-def _over_mean(values, dims: list[str], over: str):
-    """(labels or None, mean over ``over``) of reference/result values: numeric values give
-    their NaN-aware mean; labels give the share of each label (labels sorted)."""
+def _means_over(values, dims: list[str], over: str, labels: list[str]) -> np.ndarray:
+    """Mean over the dimension ``over`` of reference or result values: NaN-aware for
+    numbers; for labels, the share of each of ``labels`` (stacked on a leading axis)."""
     a = np.asarray(values)
     axis = dims.index(over)
     if _is_text(a):
-        return a.astype(str), axis
+        return np.stack([(a.astype(str) == n).mean(axis=axis) for n in labels])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices stay NaN
-        return None, np.nanmean(a.astype(float), axis=axis)
-
-
-def _shares(labels: np.ndarray, axis: int, names: list[str]) -> np.ndarray:
-    return np.stack([(labels == n).mean(axis=axis) for n in names])
+        return np.nanmean(a.astype(float), axis=axis)
 
 
 def _compare_over(name: str, var: xr.DataArray, spec: dict, policy: dict) -> list[str]:
@@ -125,16 +121,14 @@ def _compare_over(name: str, var: xr.DataArray, spec: dict, policy: dict) -> lis
     over = policy["over"]
     if over not in var.dims:
         return [f"variable {name!r} has no dimension {over!r} to compare over"]
-    atol = max(float(policy["atol"]), float(spec.get("atol", DEFAULT_ATOL)))
-    dims = list(var.dims)
-    got_labels, got = _over_mean(var.values, dims, over)
-    want_labels, want = _over_mean(spec["values"], spec["dims"], over)
-    if (got_labels is None) != (want_labels is None):
+    if _is_text(var.values) != _is_text(spec["values"]):
         return [f"variable {name!r}: labels against numbers"]
-    if got_labels is not None:
-        axis = got
-        names = sorted(set(got_labels.ravel()) | set(want_labels.ravel()))
-        got, want = _shares(got_labels, axis, names), _shares(want_labels, axis, names)
+    atol = max(float(policy["atol"]), float(spec.get("atol", DEFAULT_ATOL)))
+    labels = sorted(set(np.asarray(var.values).astype(str).ravel())
+                    | set(np.asarray(spec["values"]).astype(str).ravel())) \
+        if _is_text(var.values) else []
+    got = _means_over(var.values, list(var.dims), over, labels)
+    want = _means_over(spec["values"], spec["dims"], over, labels)
     if got.shape != want.shape:
         return [f"variable {name!r} mean over {over} shape {got.shape} != {want.shape}"]
     if np.allclose(got, want, rtol=policy["rtol"], atol=atol, equal_nan=True):
