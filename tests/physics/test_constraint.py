@@ -156,3 +156,77 @@ def test_velocity_servo_reaches_command():
     m, s = _servo_model(1e3, 0.0, kind="velocity")
     _, w = _scan(m, s, 20, _vel, action=jnp.asarray([2.5]))
     np.testing.assert_allclose(np.asarray(w)[-1, 0], 2.5, rtol=1e-4)
+
+
+def _pd_model(stiffness, damping, max_torque, max_velocity, *, load=0.0):
+    """A bar on a vertical-axis hinge with a compliant drive; ``load`` [N] pushes its tip
+    sideways (a body spring to a far anchor stands in for a constant force)."""
+    b = Builder("pd", dt=0.005, gravity=(0, 0, 0), solver_iterations=40)
+    b.add_box("w", (0.6, 0.1, 0.1), (0.3, 0, 0), mass=2.0)
+    b.add_hinge("h", "world", "w", (0, 0, 0), (0, 0, 1))
+    b.add_compliant_servo("h", stiffness, damping, max_torque, max_velocity)
+    if load:  # weak, long spring: ~constant force along +y at the tip
+        k = 1.0
+        b.add_box("anchor", (0.01, 0.01, 0.01), (0.6, load / k + 1.0, 0), mass=1.0)
+        b.add_fixed("fix", "world", "anchor")
+        b.add_spring("push", "w", "anchor", (0.6, 0, 0), (0.6, load / k + 1.0, 0), k, 0.0,
+                     rest_length=1.0)
+    return b.build(jnp.float32)
+
+
+def test_compliant_drive_deflects_by_load_over_stiffness():
+    k, load, lever = 20.0, 2.0, 0.6
+    m, s = _pd_model(k, 0.4, 100.0, 100.0, load=load)
+    s, _ = _scan(m, s, 2000, _angle, action=jnp.zeros((1,)))
+    q = float(sensors(m, s)["joint_angle"][0])
+    torque = load * lever * np.cos(q)  # the spring's force stays ~along +y
+    np.testing.assert_allclose(q, torque / k, rtol=0.03)
+    assert q > 0.04  # a hard position servo would hold q = 0 (see the next test)
+
+
+def test_hard_servo_under_the_same_load_holds_its_command():
+    b = Builder("servo", dt=0.005, gravity=(0, 0, 0), solver_iterations=40)
+    b.add_box("w", (0.6, 0.1, 0.1), (0.3, 0, 0), mass=2.0)
+    b.add_hinge("h", "world", "w", (0, 0, 0), (0, 0, 1))
+    b.add_position_servo("h", 50.0, 100.0, 100.0)
+    b.add_box("anchor", (0.01, 0.01, 0.01), (0.6, 3.0, 0), mass=1.0)
+    b.add_fixed("fix", "world", "anchor")
+    b.add_spring("push", "w", "anchor", (0.6, 0, 0), (0.6, 3.0, 0), 1.0, 0.0, rest_length=1.0)
+    m, s = b.build(jnp.float32)
+    s, _ = _scan(m, s, 2000, _angle, action=jnp.zeros((1,)))
+    assert abs(float(sensors(m, s)["joint_angle"][0])) < 1e-3
+
+
+def test_compliant_drive_free_response_is_a_damped_spring():
+    """Unloaded step response: the implicit PD on a rotor of inertia I has the period
+    2 pi / sqrt(k / I - (c / 2I)^2) of the damped oscillator."""
+    k, c = 5.0, 0.05
+    m, s = _pd_model(k, c, 1e3, 1e3)
+    _, q = _scan(m, s, 4000, _angle, action=jnp.asarray([0.1]))
+    izz = 2.0 * (0.6 ** 2 + 0.1 ** 2) / 12 + 2.0 * 0.3 ** 2  # box about the hinge
+    wd = np.sqrt(k / izz - (c / (2 * izz)) ** 2)
+    np.testing.assert_allclose(_period(np.asarray(q)[:, 0] - 0.1, 0.005), 2 * np.pi / wd,
+                               rtol=0.02)
+    np.testing.assert_allclose(np.mean(np.asarray(q)[-1000:, 0]), 0.1, atol=1e-3)  # centre
+
+
+def test_compliant_drive_is_bounded_in_torque_and_speed():
+    tau, vmax = 0.5, 1.0
+    m, s = _pd_model(1e3, 10.0, tau, 1e3)
+    _, w = _scan(m, s, 20, _vel, action=jnp.asarray([1.0]))
+    izz = 2.0 * (0.6 ** 2 + 0.1 ** 2) / 12 + 2.0 * 0.3 ** 2
+    t = np.arange(20) * 0.005
+    # (the first steps carry the Jacobi sweeps' error on the off-centre hinge's block)
+    np.testing.assert_allclose(np.asarray(w)[3:, 0], tau / izz * t[3:], rtol=5e-3)
+    m, s = _pd_model(1e3, 1.0, 1e3, vmax)
+    _, w = _scan(m, s, 200, _vel, action=jnp.asarray([1.0]))
+    assert float(np.max(np.asarray(w)[:, 0])) <= vmax * (1 + 1e-3)
+    np.testing.assert_allclose(np.asarray(w)[60:100, 0], vmax, rtol=1e-2)  # slewing
+
+
+def test_compliant_drive_needs_positive_gains():
+    b = Builder("pd")
+    b.add_box("w", (0.6, 0.1, 0.1), (0.3, 0, 0), mass=2.0)
+    b.add_hinge("h", "world", "w", (0, 0, 0), (0, 0, 1))
+    with pytest.raises(ValueError, match="stiffness and damping must be positive"):
+        b.add_compliant_servo("h", 0.0, 0.1, 1.0, 1.0)

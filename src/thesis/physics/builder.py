@@ -165,15 +165,18 @@ class Builder:
         return name
 
     def add_box(self, name, size, pos, rot=None, mass=None, density=1000.0,
-                color=(0.8, 0.8, 0.8), texture=None, visible=True):
+                color=(0.8, 0.8, 0.8), texture=None, visible=True, inertia=None):
         """Add a solid box body of full edge lengths ``size`` [m] at ``pos`` (its centre).
 
         Mass is ``density * volume`` [kg/m^3] unless ``mass`` [kg] is given (FACTS §2.3).
-        ``rot`` is a 3x3 matrix or a quaternion [w, x, y, z]. Returns ``name``.
+        ``rot`` is a 3x3 matrix or a quaternion [w, x, y, z]. ``inertia`` (3, 3) [kg m^2]
+        about the centre, body frame, replaces the solid box's for a body whose mass is
+        not spread evenly (e.g. motors mounted at its sides). Returns ``name``.
         """
         size = np.asarray(size, np.float64)
         m = density * float(np.prod(size)) if mass is None else float(mass)
-        self._add_body(name, pos, rot, m, box_inertia(m, size))
+        inertia = box_inertia(m, size) if inertia is None else np.asarray(inertia, np.float64)
+        self._add_body(name, pos, rot, m, inertia)
         if visible:
             self.geoms.append(dict(type=GeomType.BOX, body=len(self.bodies) - 1,
                                    size=size / 2, pos=np.zeros(3), rot=np.eye(3),
@@ -260,6 +263,21 @@ class Builder:
         return self._add_servo(joint, ServoKind.POSITION, gain, max_torque, max_velocity,
                                deadband, axis_index, command_range, name)
 
+    def add_compliant_servo(self, joint, stiffness, damping, max_torque, max_velocity,
+                            axis_index=0, command_range=None, name=None):
+        """Compliant position drive: a PD law ``stiffness * (command - q) - damping * qdot``
+        [N m or N] on the joint coordinate q, integrated implicitly like a joint spring
+        whose rest angle is the command, bounded by ``max_torque`` and with its
+        position-correction rate bounded by ``max_velocity`` [rad/s or m/s]. Unlike a
+        position servo (a hard velocity row), a load on the joint deflects q from the
+        command by about load / stiffness: the motor angle a motor encoder reads. Both
+        ``stiffness`` and ``damping`` must be positive. Returns the servo index."""
+        if not (stiffness > 0 and damping > 0):
+            raise ValueError(f"compliant servo on {joint!r}: stiffness and damping must be "
+                             f"positive, got {stiffness}, {damping}")
+        return self._add_servo(joint, ServoKind.COMPLIANT, 0.0, max_torque, max_velocity,
+                               0.0, axis_index, command_range, name, stiffness, damping)
+
     def add_velocity_servo(self, joint, max_torque, axis_index=0, name=None):
         """Velocity servo: drives the joint coordinate's rate to the command [rad/s, m/s]
         with at most ``max_torque``. Returns the servo index."""
@@ -267,7 +285,7 @@ class Builder:
                                axis_index, None, name)
 
     def _add_servo(self, joint, kind, gain, max_torque, max_velocity, deadband, axis_index,
-                   command_range, name):
+                   command_range, name, stiffness=0.0, damping=0.0):
         j = self.joints[self._joint(joint)]
         if command_range is None:
             command_range = ((-np.inf, np.inf) if j["limits"] is None
@@ -275,6 +293,7 @@ class Builder:
         self.servos.append(dict(joint=joint, axis=int(axis_index), kind=kind, gain=gain,
                                 torque=max_torque, vmax=max_velocity, deadband=deadband,
                                 lo=command_range[0], hi=command_range[1],
+                                k=stiffness, c=damping,
                                 name=name or f"{joint}:{axis_index}"))
         return len(self.servos) - 1
 

@@ -20,7 +20,10 @@ stable for any stiffness.
 
 Servos (FACTS §2.7): a hard velocity row along the joint coordinate with target rate
 ``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
-or the command for velocity servos, and impulse bounded by ``max_torque * dt``.
+or the command for velocity servos, and impulse bounded by ``max_torque * dt``. A
+compliant drive (``ServoKind.COMPLIANT``) is the same row made soft: an implicit
+spring-damper towards the command (stiffness, damping, as a joint spring with the command
+as its rest angle) whose position-correction rate is clipped to ``+-v_max``.
 Tethers (``Builder.add_tether``): a spring row on the anchor's distance d from its rail
 with impulse in [-inf, 0] (pull only) while d > slack and [0, 0] while slack, so a slack
 tether applies exactly no impulse.
@@ -115,7 +118,17 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         is_pos = np.asarray(m.servo_kind == ServoKind.POSITION)
         target = jnp.where(is_pos, target_pos, cmd)
         imp = m.servo_max_torque * dt
-        add(dja[d], djb[d], -target, 0.0, 0.0, -imp, imp, 0.0, dof_b1[d], dof_b2[d])
+        bias, cfm = -target, 0.0
+        is_pd = np.asarray(m.servo_kind == ServoKind.COMPLIANT)
+        if is_pd.any():  # static: models without compliant drives keep their program
+            k = jnp.where(is_pd, m.servo_stiffness, 1.0)
+            c = jnp.where(is_pd, m.servo_damping, 1.0)
+            erp, cfm_pd = _spring(k, c, dt)
+            bias_pd = jnp.clip(erp / dt * (q[d] - cmd), -m.servo_max_velocity,
+                               m.servo_max_velocity)
+            bias = jnp.where(is_pd, bias_pd, bias)
+            cfm = jnp.where(is_pd, cfm_pd, 0.0)
+        add(dja[d], djb[d], bias, 0.0, cfm, -imp, imp, 0.0, dof_b1[d], dof_b2[d])
 
     # joint limits: one unilateral row per limited coordinate, on the violated side
     nl = int(m.limit_dof.shape[0])

@@ -149,6 +149,7 @@ def build_model(b, dtype):
         servo_gain=f("gain", S, (len(S),)), servo_max_torque=f("torque", S, (len(S),)),
         servo_max_velocity=f("vmax", S, (len(S),)), servo_deadband=f("deadband", S, (len(S),)),
         servo_lo=f("lo", S, (len(S),)), servo_hi=f("hi", S, (len(S),)),
+        servo_stiffness=f("k", S, (len(S),)), servo_damping=f("c", S, (len(S),)),
         limit_lo=_arr([l[1] for l in limits], (len(limits),), dtype),
         limit_hi=_arr([l[2] for l in limits], (len(limits),), dtype),
         limit_hz=_arr([l[3] for l in limits], (len(limits),), dtype),

@@ -48,10 +48,13 @@ class DofKind(enum.IntEnum):
 
 
 class ServoKind(enum.IntEnum):
-    """Position servo (target coordinate) or velocity servo (target rate), FACTS §2.7."""
+    """Position servo (target coordinate), velocity servo (target rate), FACTS §2.7, or
+    compliant position drive (an implicit spring-damper towards the command, bounded in
+    torque and speed: ``Builder.add_compliant_servo``)."""
 
     POSITION = 0
     VELOCITY = 1
+    COMPLIANT = 2
 
 
 class GeomType(enum.IntEnum):
@@ -179,7 +182,9 @@ class Model(_Replace):
         rot1^T rot2; joint_hz, joint_zeta (n_joint,) softness (natural frequency [Hz],
         damping ratio).
         servo_gain [1/s], servo_max_torque [N m or N], servo_max_velocity [rad/s or m/s],
-        servo_deadband [rad or m], servo_lo/servo_hi command range (n_servo,).
+        servo_deadband [rad or m], servo_lo/servo_hi command range (n_servo,);
+        servo_stiffness [N m/rad or N/m], servo_damping [N m s/rad or N s/m] (n_servo,) of
+        compliant drives (0 for the other kinds).
         limit_lo, limit_hi (n_limit,) [rad or m]; limit_hz, limit_zeta (n_limit,).
         jspring_k [N m/rad or N/m], jspring_c [N m s/rad or N s/m], jspring_rest (n_jspring,).
         spring_anchor1/2 (n_spring, 3) body frames [m], spring_k [N/m], spring_c [N s/m],
@@ -289,6 +294,8 @@ class Model(_Replace):
     servo_deadband: Any
     servo_lo: Any
     servo_hi: Any
+    servo_stiffness: Any
+    servo_damping: Any
     limit_lo: Any
     limit_hi: Any
     limit_hz: Any
