@@ -83,7 +83,7 @@ def test_the_thread_is_slack_standing_and_taut_when_the_head_drops_or_strays(cfg
     assert float(d_roll[0]) < float(d0[0]) + 0.01
     bridle, st2 = R.O.oncilla(tether_rail_height=cfg["tether"]["rail_height"],
                               tether_slack=slack, tether_stiffness=1.0, tether_damping=0.0,
-                              tether_width=0.16)
+                              tether_width=R.O.TRUNK[1])
     assert bridle.tether_names == ("thread_left", "thread_right")
     _, d2_0, _ = tether_geometry(bridle, st2.pos, st2.rot)
     for angle in (0.44, -0.44):

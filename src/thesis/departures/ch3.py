@@ -25,11 +25,16 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="§3.2.1 describes the Oncilla qualitatively (pantographic legs, cable-driven "
                "knees with springs, scapulae); it gives no dimensions, masses, spring rates, "
                "motor limits or friction.",
-        ours="Dimensions, mass split, knee spring, servo limits, foot friction, time step and "
-             "solver sweeps are assumed (each with its reason in "
-             "thesis.physics.models.oncilla; time step and sweeps in ch3.model).",
-        why="No public source gives these values (FACTS §5); nothing is fitted to a result of "
-            "the thesis.",
+        ours="Hip placement (0.35 m apart, scapula axes +-0.069 m), scapula servos, mass and "
+             "motor placement are taken from the official AMARSi simulation and the Oncilla "
+             "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
+             "segment lengths, knee spring, hip and knee drive stiffness, foot friction, "
+             "time step and solver sweeps are assumed, each with its reason in "
+             "thesis.physics.models.oncilla (time step and sweeps in ch3.model). Not "
+             "modelled: the hind legs' longer reach and the foot plates (all legs share the "
+             "fore legs' geometry; point toes).",
+        why="The thesis and public sources give only part of the robot (FACTS §5, "
+            "ONCILLA.md); nothing is fitted to a result of the thesis.",
         config=("ch3.model.dt", "ch3.model.solver_iterations"),
     ),
     Departure(

@@ -22,9 +22,11 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch4.simulated_oncilla", kind="deviation", results=ALL,
         thesis="§4.5: every gait was optimised and evaluated on the Oncilla robot itself.",
-        ours="The Oncilla of thesis.physics.models.oncilla on the shared engine; its trunk "
-             "size, mass split, spring rates, servo limits and friction are assumptions "
-             "documented in that module (no public values exist for them).",
+        ours="The Oncilla of thesis.physics.models.oncilla on the shared engine: hip "
+             "placement, scapula servos and mass from the official simulation and the "
+             "Oncilla paper; trunk shell, motor masses, spring rates, drive stiffness and "
+             "friction are assumptions documented in that module (no public values exist "
+             "for them); the hind legs share the fore legs' reach and the feet are points.",
         why="The hardware is out of reach; absolute speeds differ from the robot's, so the "
             "claims compare transfer against no transfer, not speeds against the thesis's.",
     ),

@@ -3,21 +3,32 @@
 What the thesis and FACTS §5 fix, and what had to be chosen (every number below cites
 its reason; nothing is fitted to a result of the thesis):
 
-* **Mass 5.1 kg** (FACTS §5). Split: each leg 0.27 kg (femur 0.10, knee drum 0.03,
-  tibia 0.08, foot 0.06: light segments, the motors sit in the body, §3.2.1 "low-inertia
-  actuator", "actuated through a cable mechanism by a second actuator in the main
-  body"), the rest (4.02 kg) in the trunk box, which carries the 8 hip/knee motors, the
+* **Mass 5.1 kg** (FACTS §5; ONCILLA.md PAPER). Split: each leg 0.27 kg (femur 0.10, knee
+  drum 0.03, tibia 0.08, foot 0.06: light segments, the motors sit in the body, §3.2.1
+  "low-inertia actuator", "actuated through a cable mechanism by a second actuator in the
+  main body"), the rest (4.02 kg) in the trunk, which carries the 8 hip/knee motors, the
   4 scapula servos, the Roboard and the battery (§4.5).
-* **Trunk** 0.36 x 0.16 x 0.07 m with the hips at (+-0.15, +-0.12) m, 0.02 m below its
-  centre: "large-cat sized" (FACTS §5); no public source gives the body dimensions
-  (FACTS §5 "Not found"), so this is an assumption. The 0.30 m hip spacing is about twice
-  the longest stride of Tab. 3.1 (2a = 182 mm) so fore and hind feet never collide.
-  The legs hang beside the trunk (hip and scapula mounts 4 cm outside its sides), a
-  0.24 m track: §4.5's safety thread "is loose during normal operation", so the real
-  robot trotted without rolling over, whereas with the feet under the trunk's edges
-  (+-0.08 m) the model rolled over sideways within 2 s in 31 of 32 random Tab. 4.1 trots
-  and at +-0.12 m in 4 of 32 (pitch falls of unstable random gaits stay: 6 of 32).
-  The track was chosen on random gaits before any result at this width was seen.
+* **Motors outboard** (ONCILLA.md SIM render, "the real motors sit outboard at the
+  body's sides"): of the trunk's 4.02 kg, one motor unit per leg (``MOTOR_UNIT`` 0.36 kg:
+  hip and knee motor with gearhead 0.15 kg each and the scapula servo 0.06 kg, a choice:
+  no source gives the parts' masses) sits at its leg's hip (x, y) at the trunk's
+  mid-height; the remaining 2.58 kg fills the trunk box. The trunk's inertia is the box's
+  plus the four units' parallel-axis terms (:func:`trunk_inertia`), about twice the roll
+  inertia of a solid 4.02-kg box.
+* **Trunk and hips** (ONCILLA.md SIM): the fore ab/adduction (L0, scapula) axes lie
+  +0.175 m forward of the trunk frame and +-0.069 m sideways; the hind ones are assumed to
+  mirror them (-0.175 m: the hind axes are not visible in the source). The legs hang
+  outboard of their L0 axes by ``LEG_OFFSET`` 0.031 m (the source shows an offset but its
+  value is unreadable; 0.031 m is the width of a motor unit between axis and leg, a
+  choice), a 0.20 m track. The scapula axis is modelled in the leg's plane, through the
+  hip point, not 0.031 m inboard of it: with the axis inboard, the engine's 30 Jacobi
+  sweeps per step did not hold the scapula servos (the standing robot's scapulae drifted
+  8-11 deg within 2 s; 80 sweeps held them to 1 deg), and the lateral foot motion per
+  degree of scapula differs by the cosine of the 0.031 / 0.14 m lever ratio only. The
+  trunk box is 0.40 x 0.14 x 0.07 m: its sides at the L0 axes, its ends 2.5 cm beyond the
+  hips, 7 cm tall as before (no source gives the shell). The hips sit 0.02 m below the
+  trunk's centre. The 0.35 m hip spacing is about twice the
+  longest stride of Tab. 3.1 (2a = 182 mm), so fore and hind feet never collide.
 * **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (femur 65 mm, tibia
   70 mm, foot 40 mm, foot segment kept parallel to the femur), joint ranges from
   :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65] deg, knee
@@ -53,14 +64,29 @@ its reason; nothing is fitted to a result of the thesis):
   6 cm; with 30 sweeps at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk
   thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
   physical (as did halving dt, at twice the cost).
-* **Servos** (position servos of FACTS §2.7): gain 50 1/s (as the engine's other
-  robots); hip and knee (brushless, §4.5) 4 N m, 12 rad/s (a 2 Hz trot needs about
-  2 pi 2 0.5 = 6.3 rad/s at the hip); scapula (RC servo) 2 N m, 8 rad/s. Commands are
-  the *thesis* joint angles of :mod:`thesis.gaits.leg` (hip from the downward vertical,
-  inner knee angle, scapula); :func:`commands_to_action` subtracts the build pose.
-  New commands every 10 ms (§3.2.2), held in between; the physics step ``dt`` is
-  2.5 ms (four steps per command): at 5 ms some gaits (fast leg swings from the settle
-  pose) made the engine diverge to NaN within 0.1 s, at 2.5 ms the same gaits walk.
+* **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
+  position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
+  motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
+  ``drive_damping`` 0.4 N m s/rad, bounded by 4 N m and 12 rad/s (a 2 Hz trot needs
+  about 2 pi 2 0.5 = 6.3 rad/s at the hip). A load on the leg deflects the motor angle by
+  load / stiffness, which is what the motor encoders of ch6 read ("the rotary encoders in
+  the motors", §6.1). liboncilla-hw configures stiffness and damping per motor but its
+  values are not public (FACTS §5), so they are chosen: the drive reaches its 4 N m
+  bound at 0.2 rad (11.5 deg) of error, and stiffness / damping = 50 1/s keeps the
+  time constant of the stiff position servos it replaces (gain 50 1/s, like the engine's
+  other robots). The knee drive turns the knee drum (the motor's side of the cable).
+  The scapula (L0) servo is the official simulation's (ONCILLA.md SIM): a stiff
+  actuated joint, P gain 10 1/s, 10 N m, 10 rad/s, no spring, no damping (a hard
+  position servo, FACTS §2.7). Commands are the *thesis* joint angles of
+  :mod:`thesis.gaits.leg` (hip from the downward vertical, inner knee angle, scapula);
+  :func:`commands_to_action` subtracts the build pose. New commands every 10 ms
+  (§3.2.2), held in between; the physics step ``dt`` is 2.5 ms (four steps per command):
+  at 5 ms some gaits (fast leg swings from the settle pose) made the engine diverge to
+  NaN within 0.1 s, at 2.5 ms the same gaits walk.
+* **Not revised** (the sources give them, the model does not have them yet): the hind
+  legs' longer reach and knee range (ONCILLA.md HW, Tab. 4.2's hind foot ~177 mm from the
+  hip; all four legs here share the fore legs' 167 mm reach circle) and the foot plates
+  (here one toe sphere per foot).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
   0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
   lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
@@ -98,9 +124,17 @@ MASS = 5.1
 #: Leg segment masses [kg]: femur, knee drum, tibia, foot.
 LEG_MASSES = (0.10, 0.03, 0.08, 0.06)
 #: Trunk size [m] (length, width, height).
-TRUNK = (0.36, 0.16, 0.07)
-#: Hip positions relative to the trunk centre [m] (LEGS order).
-HIPS = ((0.15, 0.12, -0.02), (0.15, -0.12, -0.02), (-0.15, 0.12, -0.02), (-0.15, -0.12, -0.02))
+TRUNK = (0.40, 0.14, 0.07)
+#: Scapula (L0) axis positions relative to the trunk centre [m] (LEGS order; ONCILLA.md).
+SCAPULAE = ((0.175, 0.069, -0.02), (0.175, -0.069, -0.02), (-0.175, 0.069, -0.02),
+            (-0.175, -0.069, -0.02))
+#: Sideways offset of each leg's plane outboard of its scapula axis [m] (a choice).
+LEG_OFFSET = 0.031
+#: Hip positions (the femur's upper end, in the leg's plane) relative to the trunk centre
+#: [m] (LEGS order).
+HIPS = tuple((x, y + (LEG_OFFSET if y > 0 else -LEG_OFFSET), z) for x, y, z in SCAPULAE)
+#: Mass of one leg's motor unit (hip and knee motors, scapula servo) in the trunk [kg].
+MOTOR_UNIT = 0.36
 #: Design depth of the feet below the hips at build time [m] (mid Tab. 4.1 x0 range).
 BUILD_DEPTH = 0.142
 #: Toe contact sphere radius [m].
@@ -134,9 +168,23 @@ def build_pose(geom: L.LegGeometry | None = None, depth: float = BUILD_DEPTH):
     return hip, knee
 
 
-def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0, hip_torque=4.0,
-            knee_torque=4.0, scapula_torque=2.0, hip_velocity=12.0, knee_velocity=12.0,
-            scapula_velocity=8.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
+def trunk_inertia(trunk_mass: float = MASS - 4 * sum(LEG_MASSES)) -> np.ndarray:
+    """(3, 3) inertia [kg m^2] of the trunk about its centre, body frame: a solid box of
+    ``trunk_mass - 4 MOTOR_UNIT`` plus the four motor units as point masses at their hips'
+    (x, y) and the trunk's mid-height (see the module docstring)."""
+    core = trunk_mass - 4 * MOTOR_UNIT
+    a, b, c = TRUNK
+    inertia = core / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+    for x, y, _ in HIPS:
+        r = np.array([x, y, 0.0])
+        inertia += MOTOR_UNIT * (r @ r * np.eye(3) - np.outer(r, r))
+    return inertia
+
+
+def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=20.0,
+            drive_damping=0.4, hip_torque=4.0, knee_torque=4.0, scapula_gain=10.0,
+            scapula_torque=10.0, hip_velocity=12.0, knee_velocity=12.0,
+            scapula_velocity=10.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
             drum_size=0.2, field=None,
             camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32,
@@ -146,6 +194,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
 
     Args:
         dt: physics step [s] (commands stay at 10 ms, see module docstring).
+        drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
+        scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
         hip_velocity, knee_velocity, scapula_velocity: servo speed limits [rad/s].
         knee_spring [N m/rad], knee_preload [rad], knee_damping [N m s/rad]: the knee's
@@ -189,7 +239,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
     b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)
     z_trunk = BUILD_DEPTH + TOE_RADIUS - HIPS[0][2]
-    b.add_box("trunk", TRUNK, (0, 0, z_trunk), mass=MASS - 4 * m_leg, color=(0.2, 0.4, 0.8))
+    b.add_box("trunk", TRUNK, (0, 0, z_trunk), mass=MASS - 4 * m_leg, color=(0.2, 0.4, 0.8),
+              inertia=trunk_inertia(MASS - 4 * m_leg))
     lx, ly, lz = (t / 2 for t in TRUNK)
     for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
         b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
@@ -224,12 +275,12 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
                      link_damping)
         toes.append(b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS,
                                          (0, 0, -(femur + foot) / 2)))
-        b.add_position_servo(f"{leg}_shoulder", servo_gain, scapula_torque, scapula_velocity,
-                             axis_index=0, name=f"{leg}_scapula")
-        b.add_position_servo(f"{leg}_shoulder", servo_gain, hip_torque, hip_velocity,
-                             axis_index=1, name=f"{leg}_hip")
-        b.add_position_servo(f"{leg}_knee", servo_gain, knee_torque, knee_velocity,
-                             name=f"{leg}_knee")
+        b.add_position_servo(f"{leg}_shoulder", scapula_gain, scapula_torque,
+                             scapula_velocity, axis_index=0, name=f"{leg}_scapula")
+        b.add_compliant_servo(f"{leg}_shoulder", drive_stiffness, drive_damping, hip_torque,
+                              hip_velocity, axis_index=1, name=f"{leg}_hip")
+        b.add_compliant_servo(f"{leg}_knee", drive_stiffness, drive_damping, knee_torque,
+                              knee_velocity, name=f"{leg}_knee")
     # onboard camera at the front of the trunk: camera z = body x, x = -body y, y = -body z
     cam_rot = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
     fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
