@@ -100,3 +100,21 @@ def test_helpers():
     assert K.dominant_frequency(x, DT) == pytest.approx(F, rel=0.02)
     assert K.fallen(np.array([[0, 0, 0.15], [0, 0, 0.9]]), np.ones(2), 0.08, DT)  # exploded
     assert not K.fallen(np.array([[0, 0, 0.15], [0.001, 0, 0.15]]), np.ones(2), 0.08, DT)
+
+
+def test_cycle_multiplier_reads_the_decay_per_period():
+    """A teacher sine and an output whose amplitude shrinks by 0.8 per period: the
+    per-period amplitudes fall geometrically and the multiplier is 0.8; a sustained
+    oscillation gives 1; an output at rest is floored, not log(0)."""
+    n, k = 40, 12
+    t = np.arange(n * k)
+    teacher = np.sin(2 * np.pi * t / n)[:, None] * np.ones((1, 3))
+    decay = 0.8 ** (t / n)
+    amps = K.amplitude_by_period(teacher * decay[:, None], teacher, n)
+    assert amps.shape == (k,)
+    np.testing.assert_allclose(amps[1:] / amps[:-1], 0.8, rtol=1e-3)
+    assert K.cycle_multiplier(amps) == pytest.approx(0.8, rel=1e-3)
+    assert K.cycle_multiplier(K.amplitude_by_period(teacher, teacher, n)) == pytest.approx(1.0)
+    rest = K.amplitude_by_period(np.zeros_like(teacher), teacher, n)
+    assert K.cycle_multiplier(rest) == pytest.approx(1.0)  # at the floor throughout
+    assert np.isnan(K.cycle_multiplier(amps[:1]))

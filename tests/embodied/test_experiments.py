@@ -19,7 +19,8 @@ from thesis.runctx import RunContext
 
 CFG = dict(
     seeds=[0, 1, 2], model=dict(dt=0.00205, solver_iterations=30),
-    control=dict(substeps=4, input_noise=0.01),
+    control=dict(substeps=4, input_noise=0.01, jitter=0.15, encoder_counts=4096,
+                 encoder_noise=0.5),
     protocol=dict(settle=0.5, normalisation=1.0, stage_seconds=2.0, running=4.0,
                   power_off=0.5, recovery=3.0),
     criteria=dict(fall_height=0.08, window=2.0, amplitude_min=0.5, amplitude_max=2.0,

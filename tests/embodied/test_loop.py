@@ -17,6 +17,7 @@ from thesis.errors import SimulationDiverged
 O = importlib.import_module("thesis.physics.models.oncilla")
 
 DT, SUB = 0.00205, 4
+STEP = 2 * np.pi / 4096  # one count of the 12-bit encoders [rad]
 SCH = PR.Schedule(settle=0.2, normalisation=0.2, stage1=0.1, stage2=0.1, running=0.1,
                   off=0.05, recovery=0.05)
 N = PR.n_steps(SCH.total, DT * SUB)
@@ -38,7 +39,9 @@ def _run(teacher, seed):
     wh, wb = C.draw_hidden(np.random.default_rng(seed), 6)
     return dict(teacher=teacher, **PR.signals(SCH, DT * SUB, N), w_hidden=wh, w_bias=wb,
                 hidden_mask=np.ones(6), slot_mask=np.ones(3), identity=False,
-                noise_std=0.01, noise_seed=seed, perturb=0.0, perturb_seed=seed)
+                noise_std=0.01, noise_seed=seed, perturb=0.0, perturb_seed=seed,
+                jitter=0.15, encoder_noise=0.5 * STEP, encoder_resolution=STEP,
+                sensing_seed=seed)
 
 
 def test_perturbed_twin_starts_at_the_rounding_level(robot):
@@ -100,3 +103,32 @@ def test_open_loop_teacher_moves_the_joints_it_commands(robot, table):
     np.testing.assert_array_equal(rec["y_hat"][1], 0.0)
     assert np.abs(rec["y_hat"][0]).max() > 0.01
     assert np.all(rec["trunk_up"] > 0.9)
+
+
+def test_encoders_read_whole_counts_with_read_noise():
+    """Readings are whole counts; the read noise moves about half the readings of a
+    constant angle at half a count, none at zero noise; resolution 0 reads exactly."""
+    q = np.full((8,), 0.3 + 0.25 * STEP, np.float32)
+    keys = [jax.random.key(i) for i in range(200)]
+    quiet = np.array([loop.read_encoders(q, k, 0.0, STEP) for k in keys])
+    noisy = np.array([loop.read_encoders(q, k, 0.5 * STEP, STEP) for k in keys])
+    np.testing.assert_allclose(quiet / STEP, np.round(quiet / STEP), atol=1e-3)
+    np.testing.assert_allclose(noisy / STEP, np.round(noisy / STEP), atol=1e-3)
+    assert np.all(quiet == quiet[0])
+    moved = np.mean(noisy != quiet[0])
+    assert 0.2 < moved < 0.8
+    np.testing.assert_array_equal(loop.read_encoders(q, keys[0], 0.0, 0.0), q)
+
+
+def test_period_jitter_changes_the_trajectory(robot, table):
+    """The jittered controller period (each step's physics time step scaled by 1 + jitter
+    u) changes an open-loop run; without jitter two identical runs agree bit for bit."""
+    model, state = robot
+    fixed = {**_run(table, 0), "jitter": 0.0}
+    runs = [_run(table, 0), fixed, fixed]
+    rec, _ = loop.simulate(model, state, runs, SUB, experiment="test_jitter",
+                           labels=[("jitter", 0), ("fixed", 0), ("fixed", 0)])
+    x = np.asarray(rec["trunk_pos"])
+    assert np.all(np.isfinite(x))
+    np.testing.assert_array_equal(x[1], x[2])
+    assert np.max(np.abs(x[0] - x[1])) > 1e-4

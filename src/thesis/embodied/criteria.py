@@ -112,6 +112,29 @@ def gait_ok(m: dict, crit: dict) -> tuple[bool, bool]:
     return bool(amp), bool(freq and m["autocorrelation"] >= crit["autocorrelation_min"])
 
 
+def amplitude_by_period(output, teacher, period_steps: int) -> np.ndarray:
+    """(K,) :func:`amplitude_ratio` over each of the K whole teacher periods of
+    ``period_steps`` controller steps in ``output``, ``teacher`` (T, J): the learned
+    gait's amplitude as it evolves (issue 40 item 5)."""
+    n = max(1, int(period_steps))
+    k = output.shape[0] // n
+    return np.array([amplitude_ratio(output[i * n:(i + 1) * n], teacher[i * n:(i + 1) * n])
+                     for i in range(k)])
+
+
+def cycle_multiplier(amplitudes, floor: float = 1e-6) -> float:
+    """Per-period growth factor of an amplitude series (K,): exp of the least-squares
+    slope of log(amplitude) against the period index. The closed loop's oscillation
+    grows (> 1), is sustained (~1) or decays towards a fixed point (< 1, the "dies out"
+    of §6.4) by this factor per teacher period: the dominant multiplier of the loop's
+    oscillation as the running stage shows it. Amplitudes below ``floor`` (numerically
+    at rest) count as ``floor``; NaN with fewer than 2 periods."""
+    a = np.maximum(np.asarray(amplitudes, float), floor)
+    if a.size < 2 or not np.all(np.isfinite(a)):
+        return float("nan")
+    return float(np.exp(np.polyfit(np.arange(a.size), np.log(a), 1)[0]))
+
+
 def evaluate(output, teacher, trunk_pos, trunk_up, schedule: PR.Schedule, dt: float,
              period: float, crit: dict) -> dict:
     """Metrics and outcome of one run.

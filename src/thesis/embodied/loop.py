@@ -3,7 +3,9 @@
 
 One scan step is one controller period Δt (§6.2 "on average Δt ≈ 8.2 ms"):
 
-1. read the 8 hip and knee encoders (thesis joint angles, :func:`encoder_dofs`);
+1. read the 8 hip and knee encoders (thesis joint angles, :func:`encoder_dofs`) as the
+   robot's 12-bit magnetic encoders give them (:func:`read_encoders`: Gaussian read noise,
+   then quantised);
 2. accumulate their mean and variance while the protocol says so (normalisation phase),
    normalise with the statistics so far, add Gaussian noise while RLS learns;
 3. hidden layer, delay buffer, features, a priori output ``y_hat = W x_rls``
@@ -11,7 +13,10 @@ One scan step is one controller period Δt (§6.2 "on average Δt ≈ 8.2 ms"):
    while learning;
 4. motor command = teacher's share s of the teacher plus (1 - s) of ``y_hat``; the
    servos' maximal torque is scaled by the protocol's torque signal (0: motors off);
-5. ``substeps`` physics steps with the command held (an inner ``lax.scan``).
+5. ``substeps`` physics steps with the command held (an inner ``lax.scan``); the period
+   jitters (§6.2 "this period can vary as much as 15 %"): each controller step lasts
+   ``substeps * dt * (1 + jitter u)``, u uniform in [-1, 1] from the run's sensing stream,
+   by scaling that step's physics time step.
 
 Every run of a batch has its own protocol timeline, teacher table, hidden weights and
 masks (see :func:`pack_runs`), so one compiled function serves a whole sweep: the shapes
@@ -68,6 +73,16 @@ def encoder_offsets() -> np.ndarray:
     return np.asarray(O.build_offsets(), np.float64)[list(HIP_KNEE)]
 
 
+def read_encoders(q, key, noise_std, resolution):
+    """(8,) encoder readings [rad] of the true motor angles ``q`` (8,) [rad]: plus Gaussian
+    read noise of ``noise_std`` [rad] from ``key``, rounded to multiples of
+    ``resolution`` [rad] (one encoder count; 0: no quantisation). The Oncilla's magnetic
+    encoders count 4096 per revolution (FACTS §5, liboncilla-hw ``L1L2.cpp``)."""
+    q = q + noise_std * jax.random.normal(key, q.shape, q.dtype)
+    safe = jnp.where(resolution > 0, resolution, 1.0)
+    return jnp.where(resolution > 0, jnp.round(q / safe) * safe, q)
+
+
 def perturbed(state0, relative, seed):
     """``state0`` with every body's position scaled by ``1 + relative * u``, u standard
     normal per coordinate from ``jax.random.key(seed)``: a twin run started at the
@@ -87,6 +102,8 @@ def _run_one(model, state0, run, substeps: int, n_steps: int):
     offsets = jnp.asarray(encoder_offsets(), dtype)
     trunk = O.trunk_index(model)
     key = jax.random.key(run["noise_seed"])
+    sensing = jax.random.key(run["sensing_seed"])
+    jitter_key, encoder_key = jax.random.fold_in(sensing, 0), jax.random.fold_in(sensing, 1)
     n_feat = run["slot_mask"].shape[0] * run["hidden_mask"].shape[0] + 1
     w0, p0 = C.rls_init(n_feat, C.N_OUTPUTS, dtype)
     buf0 = jnp.zeros((run["slot_mask"].shape[0], run["hidden_mask"].shape[0]), dtype)
@@ -96,7 +113,9 @@ def _run_one(model, state0, run, substeps: int, n_steps: int):
     def body(carry, xs):
         s, w, p, buf, (ssum, ssq, cnt) = carry
         k, teacher, share, torque_k, learn, stats = xs
-        q = all_sensors(model, s)["joint_angle"][dofs] + offsets
+        q = read_encoders(all_sensors(model, s)["joint_angle"][dofs] + offsets,
+                          jax.random.fold_in(encoder_key, k), run["encoder_noise"],
+                          run["encoder_resolution"])
         ssum, ssq, cnt = ssum + stats * q, ssq + stats * q * q, cnt + stats
         n = jnp.maximum(cnt, 1.0)
         mean = ssum / n
@@ -113,7 +132,9 @@ def _run_one(model, state0, run, substeps: int, n_steps: int):
         w, p = jnp.where(on, w_new, w), jnp.where(on, p_new, p)
         cmd = share * teacher + (1.0 - share) * y_hat
         action = O.commands_to_action(cmd).astype(dtype)
-        m = model.replace(servo_max_torque=torque * torque_k)
+        u = jax.random.uniform(jax.random.fold_in(jitter_key, k), (), dtype, -1.0, 1.0)
+        m = model.replace(servo_max_torque=torque * torque_k,
+                          dt=model.dt * (1.0 + run["jitter"] * u))
 
         def physics(st, _):
             return step(m, st, action), None
@@ -149,10 +170,14 @@ def pack_runs(runs: list[dict], dtype=np.float32) -> dict:
     ``learn``, ``stats`` (T,) from :func:`thesis.embodied.protocol.signals`;
     ``w_hidden`` (H_max, 8), ``w_bias`` (H_max,), ``hidden_mask`` (H_max,),
     ``slot_mask`` (S,), ``identity`` (bool), ``noise_std`` (float), ``noise_seed`` (int),
-    ``perturb`` (float: relative size of the initial-state perturbation, 0 for none) and
-    ``perturb_seed`` (int) (:func:`perturbed`).
+    ``perturb`` (float: relative size of the initial-state perturbation, 0 for none),
+    ``perturb_seed`` (int) (:func:`perturbed`), ``jitter`` (float: relative half-range of
+    the controller period), ``encoder_noise`` and ``encoder_resolution`` [rad]
+    (:func:`read_encoders`) and ``sensing_seed`` (int: the stream of the period's jitter
+    and the encoders' read noise).
     """
-    ints = {"noise_seed": np.uint32, "perturb_seed": np.uint32, "identity": np.bool_}
+    ints = {"noise_seed": np.uint32, "perturb_seed": np.uint32, "sensing_seed": np.uint32,
+            "identity": np.bool_}
     out = {}
     for k in runs[0]:
         out[k] = np.stack([np.asarray(r[k]) for r in runs]).astype(ints.get(k, dtype))

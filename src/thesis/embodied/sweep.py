@@ -166,7 +166,8 @@ def build_runs(conditions, seeds, teachers, cfg, root_seed: int, *, open_loop=Fa
                 identity=c.linear, noise_std=float(cfg["control"]["input_noise"]),
                 noise_seed=seeding.int_seed(root_seed, "ch6/noise", s),
                 perturb=float(perturb), perturb_seed=seeding.int_seed(root_seed, "ch6/perturb",
-                                                                      s)))
+                                                                      s),
+                **sensing(cfg), sensing_seed=seeding.int_seed(root_seed, "ch6/sensing", s)))
             labels.append((c.name if perturb == 0 else f"{c.name} (perturbed twin)", s))
     return runs, labels, scheds, tables, n
 
@@ -176,6 +177,16 @@ def commands_sent(rec, runs, i):
     controller's a priori output."""
     share = np.asarray(runs[i]["share"])[:, None]
     return share * runs[i]["teacher"] + (1.0 - share) * rec["y_hat"][i]
+
+
+def sensing(cfg: dict) -> dict:
+    """Per-run sensing inputs of :func:`thesis.embodied.loop.pack_runs` from
+    ``ch6.control``: the period's relative jitter and the encoders' read noise and
+    resolution [rad] (the noise is given in counts of ``encoder_counts`` per revolution)."""
+    c = cfg["control"]
+    step = 2.0 * np.pi / float(c["encoder_counts"]) if c["encoder_counts"] else 0.0
+    return dict(jitter=float(c["jitter"]), encoder_noise=float(c["encoder_noise"]) * step,
+                encoder_resolution=step)
 
 
 def perturbation(cfg: dict) -> float:
@@ -246,6 +257,10 @@ def evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing, *, the
     n_curve = PR.n_steps(t_train, dt * stride)
     curve = np.full((nc, ns, n_curve), np.nan)
     n_js = PR.n_steps(record["joint_space_seconds"], dt)
+    n_per = max((w.stop - w.start) // int(round(1.0 / teachers[c.gait][2] / dt))
+                for c, sch in zip(conditions, scheds) for w in [PR.window(sch, "running", dt)])
+    amp_curve = np.full((nc, ns, n_per), np.nan)
+    multiplier = np.full((nc, ns), np.nan)
     js_teacher = np.full((nc, ns, n_js, 2), np.nan)
     js_learned = np.full((nc, ns, n_js, 2), np.nan)
     rh = [loop.ENCODERS.index("RH_hip"), loop.ENCODERS.index("RH_knee")]
@@ -259,6 +274,11 @@ def evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing, *, the
             for k in METRICS:
                 metrics[k][ci, si] = m[k]
             outcome[ci, si] = m["outcome"]
+            run_w = PR.window(sch, "running", dt)
+            amps = K.amplitude_by_period(cmd[run_w][:, hk], runs[i]["teacher"][run_w][:, hk],
+                                         int(round(period / dt)))
+            amp_curve[ci, si, :len(amps)] = amps
+            multiplier[ci, si] = K.cycle_multiplier(amps)
             err = ((runs[i]["teacher"] - rec["y_hat"][i]) ** 2).mean(axis=1)  # a priori
             tr = PR.window(sch, "stage1", dt, skip=0.0)
             half = PR.window(sch, "stage1", dt, last=0.5 * c.stage1)
@@ -289,6 +309,13 @@ def evaluate(rec, runs, conditions, seeds, scheds, teachers, cfg, timing, *, the
         end_mse=(dims, end_mse, dict(
             units="rad2", long_name="mean a priori MSE over the last gait period of "
                                     "training")),
+        running_amplitude=(("config", "seed", "running_period"), amp_curve, dict(
+            units="1", long_name="amplitude ratio (mean std(output) / std(teacher) over hip "
+                                 "and knee) in each teacher period of the running stage")),
+        cycle_multiplier=(dims, multiplier, dict(
+            units="1", long_name="per-period growth factor of the running stage's amplitude "
+                                 "(exp of the slope of its log): < 1 the oscillation decays "
+                                 "towards a fixed point, ~1 it is sustained")),
         mse_curve=(("config", "seed", "train_time"), curve, dict(
             units="rad2", long_name="a priori MSE of the 12 outputs during training, "
                                     "moving average over one gait period (Fig. 6.6)")),

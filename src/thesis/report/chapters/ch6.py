@@ -138,10 +138,41 @@ def criteria_table(results) -> Table:
                  thesis_ref="§6.4", columns=["setting", "value"], rows=rows, note=note)
 
 
+def loop_table(results) -> Table:
+    """Per seed of the base trot (H = 50, B = 5): outcome, the amplitude ratio in the first
+    and last teacher period of the running stage, and the per-period multiplier of that
+    amplitude (``cycle_multiplier``), which puts a number on "dies out"."""
+    ds = results.get("ch6/trot")
+    cols = ["seed", "outcome", "amplitude, first period", "amplitude, last period",
+            "multiplier per period"]
+    if ds is None or "cycle_multiplier" not in ds:
+        return Table(id="loop", title="The learned loop as a dynamical system (base trot)",
+                     thesis_ref="§6.4-6.5", columns=cols, rows=[[NOT_RUN] + [""] * 4])
+    d = ds.sel(config=ds["config"].values[list(ds["role"].values).index("base")])
+    rows = []
+    for seed in d["seed"].values:
+        e = d.sel(seed=seed)
+        a = e["running_amplitude"].values
+        a = a[np.isfinite(a)]
+        rows.append([str(seed), str(e["outcome"].values),
+                     fmt(a[0]) if a.size else "—", fmt(a[-1]) if a.size else "—",
+                     fmt(float(e["cycle_multiplier"]))])
+    m = d["cycle_multiplier"].values
+    note = (f"Config {d['config'].values}. Multiplier: exp of the least-squares slope of the "
+            "log amplitude ratio per teacher period over the running stage (thesis.embodied."
+            "criteria.cycle_multiplier); < 1: the oscillation decays towards a fixed point "
+            "by that factor per period. Median over seeds "
+            f"{fmt(float(np.nanmedian(m)))}; below 0.95 in {int(np.sum(m < 0.95))} of "
+            f"{int(np.isfinite(m).sum())} seeds.")
+    return Table(id="loop", title="The learned loop as a dynamical system (base trot)",
+                 thesis_ref="§6.4-6.5", columns=cols, rows=rows, note=note)
+
+
 def tables(results) -> list[Table]:
-    """Success per configuration, minimal values, the teacher screen, the criteria."""
+    """Success per configuration, minimal values, the teacher screen, the criteria, the
+    base trot's loop dynamics."""
     return [success_table(results), minimal_table(results), teacher_table(results),
-            criteria_table(results)]
+            criteria_table(results), loop_table(results)]
 
 
 # ------------------------------------------------------------------ figures
