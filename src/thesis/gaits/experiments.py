@@ -110,17 +110,18 @@ def evaluate_gaits(cfg, gait, p_from, p_to, t_run, t_transition):
 
 def optimise(cfg, seed: int, root_seed: int, log=None, timing=None):
     """PSO of every gait family for one seed (§3.3.1.2-3): each generation of all three
-    swarms is simulated in one batched rollout. Returns {gait: (History, n_exploded)};
-    appends (robot-seconds, wall-seconds) of every generation after the first to
-    ``timing``."""
+    swarms is simulated in one batched rollout. Returns {gait: (History, n_exploded,
+    fallen)} with ``fallen`` (generations, particles) bool, the evaluations whose robot
+    fell (as ch4 records them); appends (robot-seconds, wall-seconds) of every generation
+    after the first to ``timing``."""
     timing = [] if timing is None else timing
-    states, xs, fs, prev, n_bad = {}, {}, {}, {}, {}
+    states, xs, fs, prev, n_bad, falls = {}, {}, {}, {}, {}, {}
     for g in GAITS:
         c, fam = cfg["pso"][g], FAMILIES[g]
         rng = seeding.rng(root_seed, f"ch3/table3_1/{g}", seed)
         states[g] = pso.pso_init(rng, int(c["particles"]), fam.lower, fam.upper,
                                  project=fam.project)
-        xs[g], fs[g], prev[g], n_bad[g] = [], [], None, 0
+        xs[g], fs[g], prev[g], n_bad[g], falls[g] = [], [], None, 0, []
     n_gen = max(int(cfg["pso"][g]["generations"]) for g in GAITS)
     for gen in range(n_gen):
         live = [g for g in GAITS if gen < int(cfg["pso"][g]["generations"])]
@@ -142,6 +143,7 @@ def optimise(cfg, seed: int, root_seed: int, log=None, timing=None):
             n = int(cfg["pso"][g]["particles"])
             f = terms["fitness"][k:k + n]
             n_bad[g] += int(terms["exploded"][k:k + n].sum())
+            falls[g].append(np.asarray(terms["fallen"][k:k + n], bool))
             x = pso.ask(states[g])
             xs[g].append(x)
             fs[g].append(f)
@@ -150,7 +152,7 @@ def optimise(cfg, seed: int, root_seed: int, log=None, timing=None):
             k += n
             if log:
                 log.info("ch3 PSO seed %d gen %d %s best %.3f", seed, gen, g, np.max(f))
-    return {g: (pso.history_from(xs[g], fs[g]), n_bad[g]) for g in GAITS}
+    return {g: (pso.history_from(xs[g], fs[g]), n_bad[g], np.stack(falls[g])) for g in GAITS}
 
 
 def table3_1(ctx) -> xr.Dataset:
@@ -164,11 +166,14 @@ def table3_1(ctx) -> xr.Dataset:
     value = np.full((len(GAITS), len(names), len(seeds)), np.nan)
     best = np.full((len(GAITS), len(seeds), n_gen), np.nan)
     n_bad = np.zeros((len(GAITS), len(seeds)))
+    n_part = max(int(cfg["pso"][g]["particles"]) for g in GAITS)
+    fallen = np.full((len(GAITS), len(seeds), n_gen, n_part), np.nan)
     timing = []
     for si, s in enumerate(seeds):
         runs = optimise(cfg, s, ctx.root_seed, ctx.log, timing)
         for gi, g in enumerate(GAITS):
-            h, n_bad[gi, si] = runs[g]
+            h, n_bad[gi, si], fell = runs[g]
+            fallen[gi, si, :fell.shape[0], :fell.shape[1]] = fell
             for pi, n in enumerate(FAMILIES[g].names):
                 value[gi, names.index(param_label(n)), si] = h.best_position[pi]
             best[gi, si, :len(h.best_fitness)] = h.best_fitness
@@ -177,11 +182,15 @@ def table3_1(ctx) -> xr.Dataset:
                     dict(units="mixed (see parameter_unit)", long_name="optimised parameter")),
              best_fitness=(("gait", "seed", "generation"), best,
                            dict(units="1", long_name="best eq. 3.3 fitness so far")),
+             fallen=(("gait", "seed", "generation", "particle"), fallen, dict(
+                 units="1", long_name="1 if the robot fell in its evaluation (trunk below "
+                                      "ch3.protocol.fall_height or tilted over); NaN where "
+                                      "a family has fewer particles or generations")),
              n_exploded=(("gait", "seed"), n_bad, dict(
                  units="1", long_name="evaluations whose simulation went unphysical "
                                       "(fitness -inf)"))),
         coords=dict(gait=list(GAITS), parameter=names, seed=seeds,
-                    generation=np.arange(n_gen)))
+                    generation=np.arange(n_gen), particle=np.arange(n_part)))
     units = {}
     for g in GAITS:
         for n, u in zip(FAMILIES[g].names, FAMILIES[g].units):

@@ -42,6 +42,19 @@ def table3_1(results) -> Table:
     note = ""
     if ds is not None:
         note = "PSO sizes: " + _sizes(ds, [k for k in ds.attrs if k.startswith("pso_")])
+        if "fallen" in ds:  # evaluations whose robot fell, as ch4 records them
+            falls = []
+            for gait in GAITS:
+                arr = ds["fallen"].sel(gait=gait).values  # (seed, generation, particle)
+                f = arr[np.isfinite(arr)]
+                ran = np.flatnonzero(np.isfinite(arr).any(axis=(0, 2)))
+                last = arr[:, ran[-1]] if ran.size else arr[:, :0]
+                last = last[np.isfinite(last)]
+                if f.size:
+                    falls.append(f"{gait} {100 * f.mean():.0f} % of all evaluations"
+                                 + (f", {100 * last.mean():.0f} % in the last generation"
+                                    if last.size else ""))
+            note += ". Fallen during PSO: " + "; ".join(falls) + "."
     return Table(id="table3_1", title="Optimised gait parameters", thesis_ref="Tab. 3.1",
                  columns=["gait", "parameter", "thesis", "reproduced (mean ± sd over seeds)"],
                  rows=rows, note=note)
