@@ -37,6 +37,7 @@ include: "workflow/rules/ch4.smk"
 include: "workflow/rules/ch5.smk"
 include: "workflow/rules/ch6.smk"
 include: "workflow/rules/ch7.smk"
+include: "workflow/rules/coopt.smk"
 include: "workflow/rules/report.smk"
 
 
@@ -74,3 +75,8 @@ rule ch6:
 rule ch7:
     input:
         CHAPTER_TARGETS["ch7"],
+
+
+rule coopt:
+    input:
+        CHAPTER_TARGETS["coopt"],

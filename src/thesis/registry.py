@@ -71,6 +71,9 @@ EXPERIMENTS: dict[str, str] = {
     "ch7/pendulum_pixels": "thesis.diffphys.pendulum:pendulum",
     "ch7/table7_1": "thesis.diffphys.bench_engine:table7_1",
     "ch7/table7_1_peers": "thesis.diffphys.bench_mjx:table7_1_peers",
+    # §8.2: controller and morphology co-optimised; analytic vs estimated gradients
+    "coopt/arms": "thesis.coopt.experiments:arms",
+    "coopt/gradients": "thesis.coopt.experiments:gradients",
     # the engine's own benchmarks (results/<profile>/physics/)
     "physics/sphere_field": "thesis.physics.bench:sphere_field",
     # model-level checks of the Oncilla (results/<profile>/model/)
@@ -149,6 +152,8 @@ READS: dict[str, tuple[str, ...]] = {
     "ch7/pendulum_pixels": ("ch7.pendulum",),
     "ch7/table7_1": ("physics.bench",),
     "ch7/table7_1_peers": ("physics.bench",),
+    "coopt/arms": ("coopt.seeds", "coopt.hidden", "coopt.body", "coopt.trot", "coopt.arms"),
+    "coopt/gradients": ("coopt.hidden", "coopt.body", "coopt.trot", "coopt.gradients"),
     "physics/sphere_field": ("physics.sphere_field",),
     "model/oncilla": ("physics.oncilla_model", "ch4.model", "ch4.protocol.settle",
                       "ch4.protocol.fall_height"),

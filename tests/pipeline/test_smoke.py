@@ -20,7 +20,7 @@ from thesis import regression, store
 from thesis.config import load_config
 
 from ..ch2_chance import better_than_chance
-from . import layouts_ch2, layouts_ch3, layouts_ch7
+from . import layouts_ch2, layouts_ch3, layouts_ch7, layouts_coopt
 from .conftest import ROOT, snakemake
 
 pytestmark = pytest.mark.pipeline
@@ -75,7 +75,8 @@ def test_smoke_ch2_models_learn(smoke_run):
     assert ok.all(), err.to_series().to_dict()
 
 
-LAYOUTS = {**layouts_ch2.CHECKS, **layouts_ch3.CHECKS, **layouts_ch7.CHECKS}
+LAYOUTS = {**layouts_ch2.CHECKS, **layouts_ch3.CHECKS, **layouts_ch7.CHECKS,
+           **layouts_coopt.CHECKS}
 
 
 @pytest.mark.parametrize("key", sorted(LAYOUTS))

@@ -14,7 +14,8 @@ config.update(validate_config(config))
 PROFILE = config["profile"]
 # The CLI of this environment (the interpreter running snakemake), independent of PATH.
 THESIS = f"{sys.executable} -m thesis"
-CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7"]
+# "coopt" is §8.2 made real (thesis.coopt): a report section like a chapter's.
+CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7", "coopt"]
 
 # Filled by each chapter's .smk: result files of its target, figures and tables it reports.
 CHAPTER_TARGETS = {ch: [] for ch in CHAPTERS}
@@ -31,6 +32,7 @@ CHAPTER_CODE = {
     "ch5": ["terrain", "physics"],
     "ch6": ["embodied", "gaits", "physics"],
     "ch7": ["diffphys", "physics", "optim"],
+    "coopt": ["coopt", "diffphys", "physics"],
 }
 
 

@@ -10,6 +10,7 @@ CHAPTER_TITLES = {
     "ch5": "Chapter 5",
     "ch6": "Chapter 6",
     "ch7": "Chapter 7",
+    "coopt": "§8.2 co-optimisation",
 }
 
 

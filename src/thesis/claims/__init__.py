@@ -1,4 +1,4 @@
-"""Every claim of the thesis as a check on result datasets (chapters 2-7 and §8.1).
+"""Every claim of the thesis as a check on result datasets (chapters 2-7, §8.1 and §8.2).
 
 Public API:
 
@@ -22,7 +22,7 @@ from collections.abc import Mapping
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, stats
+from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
@@ -30,6 +30,7 @@ __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutE
 
 CLAIMS: tuple[Claim, ...] = (
     *ch2.CLAIMS, *ch3.CLAIMS, *ch4.CLAIMS, *ch5.CLAIMS, *ch6.CLAIMS, *ch7.CLAIMS, *ch8.CLAIMS,
+    *coopt.CLAIMS,
 )
 
 _BY_ID: dict[str, Claim] = {}

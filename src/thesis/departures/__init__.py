@@ -1,6 +1,6 @@
 """Every departure of the pipeline from the thesis, declared once per chapter.
 
-``DEPARTURES`` collects the chapter modules ``ch2`` ... ``ch7`` (each a tuple
+``DEPARTURES`` collects the chapter modules ``ch2`` ... ``ch7`` and ``coopt`` (§8.2; each a tuple
 ``DEPARTURES`` of :class:`Departure`); :func:`for_result` lists those a result rests on,
 :func:`records` the same as JSON-ready records with the values the run's configuration
 held at their config paths (``thesis run`` writes them into the result's attribute
@@ -10,7 +10,7 @@ from the rest of ``thesis``.
 
 from __future__ import annotations
 
-from thesis.departures import ch2, ch3, ch4, ch5, ch6, ch7
+from thesis.departures import ch2, ch3, ch4, ch5, ch6, ch7, coopt
 from thesis.departures.types import KINDS, Departure
 
 __all__ = ["ATTR", "DEPARTURES", "Departure", "KINDS", "config_value", "for_result", "get",
@@ -21,7 +21,7 @@ ATTR = "departures"
 
 DEPARTURES: tuple[Departure, ...] = (
     *ch2.DEPARTURES, *ch3.DEPARTURES, *ch4.DEPARTURES, *ch5.DEPARTURES, *ch6.DEPARTURES,
-    *ch7.DEPARTURES,
+    *ch7.DEPARTURES, *coopt.DEPARTURES,
 )
 
 _BY_ID: dict[str, Departure] = {}

@@ -224,8 +224,26 @@ def _page(title: str, body: str) -> str:
 
 def _chapter_number(ch: str) -> int:
     """Thesis chapter of a report section; -1 for a section that is no chapter (``model``,
-    the simulated robot's own checks), which no claim belongs to."""
+    the simulated robot's own checks), which no claim belongs to; ``coopt`` (§8.2 made
+    real) holds chapter 8's §8.2 claims."""
+    if ch == COOPT_SECTION:
+        return 8
     return int(ch.removeprefix("ch")) if ch.startswith("ch") else -1
+
+
+#: The report section of §8.2's experiments (``thesis.coopt``); its claims are chapter 8's
+#: with section §8.2, shown there and not among the §8.1 conclusions.
+COOPT_SECTION = "coopt"
+
+
+def _section_claims(claims: list[dict], ch: str) -> list[dict]:
+    """The claims a report section shows: §8.2's in ``coopt``, the rest of chapter 8
+    under the conclusions (``"ch8"``), every claim otherwise (filtered by chapter later)."""
+    if ch == COOPT_SECTION:
+        return [c for c in claims if c.get("section") == "§8.2"]
+    if ch == "ch8":
+        return [c for c in claims if c.get("section") != "§8.2"]
+    return claims
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
@@ -249,11 +267,12 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict],
                       "|" + "---|" * len(t.columns)]
             lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t.rows]
             lines += [""] + ([t.note, ""] if t.note else [])
-        claim_lines = V.summary_lines(claims, _chapter_number(s.chapter))
+        claim_lines = V.summary_lines(_section_claims(claims, s.chapter),
+                                      _chapter_number(s.chapter))
         if claim_lines:
             lines += ["### Claims", "", *claim_lines, ""]
         lines += V.summary_departures(V.chapter_departures(results, s.chapter))
-    conclusions = V.summary_lines(claims, 8)
+    conclusions = V.summary_lines(_section_claims(claims, "ch8"), 8)
     if conclusions:
         lines += ["## §8.1 — Conclusions", "", *conclusions, ""]
     return "\n".join(lines)
@@ -295,11 +314,12 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             with store.atomic_path(tables_dir / f"{s.chapter}_{t.id}.html") as tmp:
                 tmp.write_text(_page(t.title, frag))
         body.extend(_figure_html(f) for f in s.figures)
-        chapter_claims = V.claims_html(claims, _chapter_number(s.chapter))
+        chapter_claims = V.claims_html(_section_claims(claims, s.chapter),
+                                       _chapter_number(s.chapter))
         if chapter_claims:
             body.append("<h3>Claims</h3>" + chapter_claims)
         body.append(V.departures_html(V.chapter_departures(results, s.chapter)))
-    conclusions = V.claims_html(claims, 8)
+    conclusions = V.claims_html(_section_claims(claims, "ch8"), 8)
     if conclusions:
         body.append('<h2 id="ch8">§8.1 — Conclusions</h2>' + conclusions)
     body.append('<h2 id="claims">All claims</h2>')

@@ -13,5 +13,6 @@ CHAPTERS = {
     "ch5": "Chapter 5 — Terrain classification on Puppy II",
     "ch6": "Chapter 6 — An embodied closed-loop gait",
     "ch7": "Chapter 7 — A differentiable physics engine",
+    "coopt": "§8.2 — Controller and morphology co-optimised; analytic and estimated gradients",
     "model": "The simulated Oncilla — model-level checks",
 }

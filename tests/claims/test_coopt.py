@@ -1,0 +1,109 @@
+"""The §8.2 claims (thesis.claims.coopt): each reproduces on a synthetic supporting result
+and does not on a contradicting one; too few seeds stay inconclusive."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from thesis import claims
+from thesis.claims import coopt
+
+
+def arms(final, perturbed=None, seeds=5):
+    """``coopt/arms`` with per-arm final speeds ``final`` {arm: mean} (+ seed noise)."""
+    rng = np.random.default_rng(0)
+    names = ["controller", "morphology", "joint"]
+    noise = rng.normal(0, 0.01, size=(3, seeds))
+    fin = np.array([[final[a]] * seeds for a in names]) + noise
+    pert = perturbed or final
+    ps = np.array([[[pert[a]] * 4] * seeds for a in names]) + noise[..., None]
+    return xr.Dataset({
+        "final_speed": (("arm", "seed"), fin, {"units": "m/s"}),
+        "perturbed_speed": (("arm", "seed", "start"), ps, {"units": "m/s"}),
+    }, coords={"arm": names, "seed": np.arange(seeds), "start": np.arange(4)})
+
+
+def grads(need_rf, need_es, spread_lo=0.1, spread_hi=5.0, seeds=3, budget=10000):
+    """``coopt/gradients`` with rollouts-to-threshold per estimator (NaN: never)."""
+    rng = np.random.default_rng(1)
+    need = np.zeros((seeds, 2, 2, 2))
+    need[..., 0] = need_rf
+    need[..., 1] = need_es
+    need = need * rng.uniform(0.9, 1.1, size=need.shape)
+    spread = np.zeros((seeds, 2, 3))
+    spread[..., 0] = spread_lo
+    spread[..., 1] = np.sqrt(spread_lo * spread_hi)
+    spread[..., 2] = spread_hi * rng.uniform(0.9, 1.1, size=(seeds, 2))
+    ds = xr.Dataset({
+        "rollouts_to_threshold": (("seed", "group", "horizon", "estimator"), need,
+                                  {"units": "1"}),
+        "start_relative_spread": (("seed", "group", "variance_horizon"), spread,
+                                  {"units": "1"}),
+        "start_nonfinite": (("seed", "group", "variance_horizon"),
+                            np.zeros((seeds, 2, 3), int), {"units": "1"}),
+    }, coords={"seed": np.arange(seeds), "group": ["controller", "morphology"],
+               "horizon": [25, 100], "estimator": ["reinforce", "es"],
+               "variance_horizon": [10, 100, 1000]})
+    ds.attrs["rollouts_max"] = budget
+    return ds
+
+
+def _status(cid, **results):
+    return claims.get(cid).check({k.replace("_", "/"): v for k, v in results.items()}).status
+
+
+@pytest.mark.parametrize("cid,var", [
+    ("ch8.coopt_joint_beats_controller_only", "controller"),
+    ("ch8.coopt_joint_beats_morphology_only", "morphology"),
+])
+def test_joint_beats_other_arm(cid, var):
+    good = {"controller": 0.5, "morphology": 0.3, "joint": 0.7}
+    bad = {**good, var: 0.9}
+    assert claims.get(cid).check({coopt.ARMS: arms(good)}).status == "reproduced"
+    assert claims.get(cid).check({coopt.ARMS: arms(bad)}).status == "not_reproduced"
+    few = claims.get(cid).check({coopt.ARMS: arms(good, seeds=2)})
+    assert few.status == "inconclusive"
+
+
+def test_advantage_from_perturbed_starts():
+    cid = "ch8.coopt_joint_advantage_holds_from_perturbed_starts"
+    nominal = {"controller": 0.5, "morphology": 0.3, "joint": 0.7}
+    held = arms(nominal, {"controller": 0.4, "morphology": 0.2, "joint": 0.6})
+    lost = arms(nominal, {"controller": 0.6, "morphology": 0.2, "joint": 0.3})
+    assert claims.get(cid).check({coopt.ARMS: held}).status == "reproduced"
+    assert claims.get(cid).check({coopt.ARMS: lost}).status == "not_reproduced"
+
+
+@pytest.mark.parametrize("cid,which", [
+    ("ch8.coopt_gradient_needs_fewer_rollouts_than_reinforce", 0),
+    ("ch8.coopt_gradient_needs_fewer_rollouts_than_es", 1),
+])
+def test_rollouts_claims(cid, which):
+    many = [2000.0, 2000.0]
+    few = [2000.0, 2000.0]
+    few[which] = 5.0
+    never = [np.nan, np.nan]
+    c = claims.get(cid)
+    assert c.check({coopt.GRADS: grads(*many)}).status == "reproduced"
+    assert c.check({coopt.GRADS: grads(*never)}).status == "reproduced"  # lower bound 10^4
+    assert c.check({coopt.GRADS: grads(*few)}).status == "not_reproduced"
+    assert c.check({coopt.GRADS: grads(*many, seeds=1)}).status == "inconclusive"
+
+
+def test_spread_claim():
+    cid = "ch8.coopt_analytic_gradient_spread_explodes_with_horizon"
+    c = claims.get(cid)
+    assert c.check({coopt.GRADS: grads(1e3, 1e3, 0.1, 50.0)}).status == "reproduced"
+    assert c.check({coopt.GRADS: grads(1e3, 1e3, 0.1, 0.12)}).status == "not_reproduced"
+    exploded = grads(1e3, 1e3, 0.1, 0.12)
+    exploded["start_relative_spread"][:, 0, -1] = np.nan
+    exploded["start_nonfinite"][:, 0, -1] = 3
+    assert c.check({coopt.GRADS: exploded}).status == "reproduced"
+
+
+def test_missing_results_are_not_run():
+    for c in coopt.CLAIMS:
+        assert c.check({}).status == "not_run"
+        assert c.section == "§8.2" and c.chapter == 8
