@@ -25,6 +25,16 @@ def table3_1(ds, cfg):
     assert ds["best_fitness"].sizes["generation"] == max(
         c["pso"][g]["generations"] for g in ("sine", "half_ellipse", "spline"))
     assert float(ds["robot_seconds_per_wall_second"]) > 0
+    # falls per evaluation, as ch4 records them: 0/1 where a family ran, NaN beyond its
+    # swarm size or generations
+    fallen = ds["fallen"]
+    assert fallen.dims == ("gait", "seed", "generation", "particle")
+    for g in ("sine", "half_ellipse", "spline"):
+        p = c["pso"][g]
+        ran = fallen.sel(gait=g).values[:, :p["generations"], :p["particles"]]
+        assert set(np.unique(ran)) <= {0.0, 1.0}
+        assert np.isnan(fallen.sel(gait=g).values[:, p["generations"]:]).all()
+        assert np.isnan(fallen.sel(gait=g).values[:, :, p["particles"]:]).all()
 
 
 def fig3_4(ds, cfg):
