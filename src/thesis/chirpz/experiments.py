@@ -46,8 +46,9 @@ MODELS = ("ffn_spn", "rnn_spn")
 def cluttered_mnist(ctx: RunContext) -> None:
     """Generate cluttered MNIST sequences (§2.5) into ``ctx.output`` (HDF5, atomic).
 
-    Splits train / valid / test of ``ch2.data.n_train / n_valid / n_test`` samples; file
-    attributes record the root seed and stream names, the digit source and the sizes.
+    Splits train / valid / test of ``ch2.data.n_train / n_valid / n_test`` samples, stored
+    as uint8 canvases (:mod:`thesis.chirpz.data`, "Storage"); file attributes record the
+    root seed and stream names, the digit source and the sizes.
     """
     from thesis.chirpz import data as D
     from thesis.store import atomic_path
@@ -55,15 +56,9 @@ def cluttered_mnist(ctx: RunContext) -> None:
     cfg = ctx.config["data"]
     name = "ch2/cluttered_mnist"
     pools = D.load_pools(cfg, seeding.rng(ctx.root_seed, name + "/pools"))
-    splits = {}
-    for split in ("train", "valid", "test"):
-        n = int(cfg[f"n_{split}"])
-        rng = seeding.rng(ctx.root_seed, f"{name}/{split}")
-        splits[split] = D.synthesise(
-            pools.images[split], pools.labels[split], n, rng, canvas=cfg["canvas"],
-            n_digits=cfg["n_digits"], n_clutter=cfg["n_clutter"],
-            clutter_size=cfg["clutter_size"], max_slope_deg=cfg["max_slope_deg"])
-        ctx.log.info("ch2/cluttered_mnist: %s %d samples", split, n)
+    splits = ("train", "valid", "test")
+    sizes = {split: int(cfg[f"n_{split}"]) for split in splits}
+    rngs = {split: seeding.rng(ctx.root_seed, f"{name}/{split}") for split in splits}
     attrs = {
         "root_seed": ctx.root_seed,
         "seed_streams": f"{name}/pools, {name}/train, {name}/valid, {name}/test",
@@ -75,8 +70,14 @@ def cluttered_mnist(ctx: RunContext) -> None:
         "clutter_size": int(cfg["clutter_size"]), "max_slope_deg": float(cfg["max_slope_deg"]),
         "profile": ctx.profile, "thesis_ref": "§2.5",
     }
+    # block by block (thesis.chirpz.data.synthesise_h5): one block of float32 canvases in
+    # memory, whatever the split sizes; the file does not depend on the block size
     with atomic_path(ctx.output) as tmp:
-        D.write_h5(tmp, splits, attrs)
+        D.synthesise_h5(tmp, pools, sizes, rngs, attrs, canvas=cfg["canvas"],
+                        n_digits=cfg["n_digits"], n_clutter=cfg["n_clutter"],
+                        clutter_size=cfg["clutter_size"], max_slope_deg=cfg["max_slope_deg"])
+    for split in splits:
+        ctx.log.info("ch2/cluttered_mnist: %s %d samples", split, sizes[split])
     return None
 
 
@@ -97,10 +98,12 @@ def _spec(cfg: dict, model: str, transform: str, d: int, canvas: int, n_digits: 
 def _load(ctx: RunContext) -> tuple[dict, dict]:
     import h5py
 
-    from thesis.chirpz.data import read_split
+    from thesis.chirpz.data import open_split
 
+    # the canvases stay uint8 in memory and each mini-batch is converted to the float32
+    # intensities the networks see (thesis.chirpz.data.Canvases)
     path = ctx.input("data")
-    data = {s: read_split(path, s) for s in ("train", "valid", "test")}
+    data = {s: open_split(path, s) for s in ("train", "valid", "test")}
     with h5py.File(path, "r") as f:
         meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()}
     return data, meta
@@ -237,6 +240,8 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "max_epochs": _per_model(cfg, [model] if model else MODELS, "max_epochs", 0),
         "patience": int(cfg["train"]["patience"]),
         "batch_size": int(cfg["train"]["batch_size"]),
+        # training sequences per epoch; 0: the whole training split (thesis.chirpz.train)
+        "epoch_sequences": int(cfg["train"].get("epoch_sequences") or 0),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
         "loc_lr_scale": _per_model(cfg, [model] if model else MODELS, "loc_lr_scale", 1.0),
@@ -295,7 +300,8 @@ def table2_2(ctx: RunContext) -> xr.Dataset:
     parts = [_read_model(ctx, m) for m in MODELS]
     keep = {k: parts[0].attrs[k] for k in ("n_train", "n_valid", "n_test", "canvas",
                                            "digit_source", "patience",
-                                           "batch_size", "optimizer", "learning_rate",
+                                           "batch_size", "epoch_sequences", "optimizer",
+                                           "learning_rate",
                                            "chirpz_output",
                                            "none_shared_across_d", "seed_streams")}
     for p in parts:

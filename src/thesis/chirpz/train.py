@@ -9,6 +9,13 @@ divided by ``lr_decay_factor`` every ``lr_decay_every`` epochs once past
 are evaluated on the test set. Cost: mean cross-entropy over the digits of a sequence
 (log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
 
+An epoch is one pass over the training split, shuffled anew, unless ``epoch_sequences``
+is set: then an epoch is the next ``epoch_sequences`` sequences of a stream of shuffled
+passes (a new pass is shuffled when one is used up, and the remainder of a pass carries
+over), so that a run shorter than one pass over a large split (the thesis's 60 000
+sequences, issue 43) still validates, stops early and decays its learning rate per
+epoch, and every sequence is seen once before any is seen twice.
+
 ``loc_lr_scale`` multiplies the optimiser's updates of the localisation network (its
 convolutions, dense layers, and for RNN-SPN the GRU that drives it) after RMSprop/Adam.
 The thesis and [RSTN] train every layer at one rate (1.0, the paper profile). At the
@@ -135,6 +142,22 @@ def _make_steps(spec: NetSpec, opt_cfg: tuple):
     return optimizer, train_step, errors
 
 
+class _PassStream:
+    """Training indices as a stream of shuffled passes over ``n`` sequences: ``take(m)``
+    returns the next ``m`` (a new pass is drawn from ``rng`` whenever the current one runs
+    out, so no sequence repeats before every one has been used)."""
+
+    def __init__(self, rng: np.random.Generator, n: int):
+        self.rng, self.n = rng, int(n)
+        self.pending = np.zeros(0, np.int64)
+
+    def take(self, m: int) -> np.ndarray:
+        while len(self.pending) < m:
+            self.pending = np.concatenate([self.pending, self.rng.permutation(self.n)])
+        out, self.pending = self.pending[:m], self.pending[m:]
+        return out
+
+
 def per_digit_error(errors_fn, params, x, y, batch: int) -> float:
     """Fraction of wrongly classified digits over a whole split (full batches + remainder)."""
     wrong = 0
@@ -146,6 +169,9 @@ def per_digit_error(errors_fn, params, x, y, batch: int) -> float:
 def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, log=None,
           on_nan=None) -> TrainResult:
     """Train ``spec`` on ``data`` = {split: (images (n,S,S) float32, labels (n,3) int32)}.
+
+    The images may be any array-like whose slices and index arrays are float32 arrays,
+    e.g. :class:`thesis.chirpz.data.Canvases` (uint8 in memory, converted per mini-batch).
 
     Args:
         cfg: the ``ch2.train`` config section (module docstring).
@@ -160,7 +186,9 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     opt_state = optimizer.init(params)
     xtr, ytr = data["train"]
     bs = int(cfg["batch_size"])
-    n_batches = max(len(xtr) // bs, 1)
+    epoch_seq = cfg.get("epoch_sequences")
+    passes = None if epoch_seq is None else _PassStream(rng, len(xtr))
+    n_batches = max((len(xtr) if epoch_seq is None else int(epoch_seq)) // bs, 1)
     lr = float(cfg["learning_rate"])
     last_decay = 0
     best, best_epoch, best_params = np.inf, 0, params
@@ -171,7 +199,9 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
             lr /= float(cfg["lr_decay_factor"])
             last_decay = epoch
         opt_state[2].hyperparams["learning_rate"] = jnp.asarray(lr, jnp.float32)
-        order = rng.permutation(len(xtr))
+        # a whole pass per epoch (as before epoch_sequences existed), or the next part of
+        # the stream of passes
+        order = rng.permutation(len(xtr)) if passes is None else passes.take(n_batches * bs)
         losses = []
         for b in range(n_batches):
             idx = np.sort(order[b * bs : (b + 1) * bs])

@@ -66,6 +66,7 @@ def tables(results: dict) -> list[Table]:
         note = (f"Reproduced: mean ± sd over seeds {[int(s) for s in np.atleast_1d(a.get('seeds', []))]}; "
                 f"{a.get('n_train')} training / {a.get('n_valid')} validation / "
                 f"{a.get('n_test')} test sequences, at most {_epochs(a.get('max_epochs'))} epochs "
+                f"of {_epoch_size(a)} "
                 f"(patience {a.get('patience')}), batch {a.get('batch_size')}, "
                 f"{a.get('optimizer')} lr {a.get('learning_rate')}; widths {a.get('widths')}; "
                 f"digits: {a.get('digit_source')}; d run: {[int(d) for d in ds['d'].values]} "
@@ -73,6 +74,12 @@ def tables(results: dict) -> list[Table]:
                 "trained once per model and seed, shown in every d row (thesis: ditto marks).")
     return [Table(id="table2_2", title="Per-digit test error on cluttered MNIST sequences",
                   thesis_ref="Tab. 2.2", columns=columns, rows=rows, note=note)]
+
+
+def _epoch_size(attrs) -> str:
+    """What one epoch is (``epoch_sequences`` attribute; 0 or absent: a whole pass)."""
+    n = int(attrs.get("epoch_sequences", 0) or 0)
+    return f"{n} sequences (a stream of shuffled passes)" if n else "a whole pass"
 
 
 def _epochs(attr) -> str:
