@@ -15,6 +15,7 @@ import numpy as np
 from thesis import paper
 from thesis.departures import ch4 as departures
 from thesis.report.format import fmt, mean_spread
+from thesis.report.plotting import save_figure
 from thesis.report.model import NOT_RUN, Figure, Table
 
 #: Columns of Tab. 4.2-4.4 as printed (parameters in the thesis's order).
@@ -233,13 +234,6 @@ def tables(results) -> list[Table]:
 
 # ------------------------------------------------------------------ figures
 
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-
 
 def _scores_panel(ax, ds, title):
     gens = ds["generation"].values
@@ -266,7 +260,7 @@ def _fig_scores(ds, path, rows):
             _scores_panel(axes[r, c], one, f"{label}, seed {s}, p = "
                                            f"{fmt(float(one['fisher_greater']), 2)}")
         axes[r, 0].set_ylabel("score [m/s] (fallen < -1)", fontsize=8)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _ellipse(ax, mean, cov, colour):
@@ -298,7 +292,7 @@ def _fig4_6(ds, path):
         ax.set_ylabel(py)
         ax.legend(fontsize=7)
     fig.suptitle(f"seed {s}: {one.sizes['top']} best particles per grade", fontsize=9)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _fig4_9(ds, path):
@@ -318,7 +312,7 @@ def _fig4_9(ds, path):
         ax.set_xlabel("x0 [mm]", fontsize=8)
         ax.set_title(f"seed {s}", fontsize=8)
     axes[0, 0].set_ylabel("a [mm]", fontsize=8)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _fig4_10(ds, path):
@@ -336,7 +330,7 @@ def _fig4_10(ds, path):
         ax.set_title(str(c), fontsize=8)
         ax.set_xlabel("generation", fontsize=8)
     axes[0, 0].set_ylabel("search-space size", fontsize=8)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _fig4_3(ds, path):
@@ -357,7 +351,7 @@ def _fig4_3(ds, path):
         ax.set_xlabel("y [mm]", fontsize=8)
     axes[0, 0].set_ylabel("x (depth below hip) [mm]", fontsize=8)
     axes[0, 0].legend(fontsize=7)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _fig_tether(ds, path):
@@ -373,7 +367,7 @@ def _fig_tether(ds, path):
     ax.set_ylabel("fraction fallen")
     ax.set_ylim(0, 1)
     ax.legend(fontsize=8)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def figures(results, outdir: Path) -> list[Figure]:

@@ -16,6 +16,7 @@ import numpy as np
 from thesis import paper
 from thesis.paper import select
 from thesis.report.format import fmt, mean_spread
+from thesis.report.plotting import not_run_panel, save_figure
 from thesis.report.model import NOT_RUN, Figure, Table
 
 
@@ -231,19 +232,6 @@ def tables(results) -> list[Table]:
 
 # ----------------------------------------------------------------------------- figures
 
-def _not_run(ax, what):
-    ax.text(0.5, 0.5, f"{what}: {NOT_RUN}", ha="center", va="center", transform=ax.transAxes)
-    ax.set_axis_off()
-
-
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return path
-
 
 def _fig_ball(results, outdir):
     import matplotlib.pyplot as plt
@@ -251,7 +239,7 @@ def _fig_ball(results, outdir):
     ds = results.get("ch7/ball")
     fig, ax = plt.subplots(figsize=(6.4, 3.6))
     if ds is None:
-        _not_run(ax, "ch7/ball")
+        not_run_panel(ax, "ch7/ball")
     else:
         for s in ds["seed"].values:
             g = ds["gradient_loss"].sel(seed=s).values
@@ -266,7 +254,7 @@ def _fig_ball(results, outdir):
         ax.set_xlabel("model evaluations")
         ax.set_ylabel("position + velocity error")
         ax.legend()
-    return _save(fig, Path(outdir) / "ball_loss.png")
+    return save_figure(fig, Path(outdir) / "ball_loss.png")
 
 
 def _fig_arm(results, outdir):
@@ -275,7 +263,7 @@ def _fig_arm(results, outdir):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.6))
     ds = results.get("ch7/arm_fixed")
     if ds is None:
-        _not_run(a1, "ch7/arm_fixed")
+        not_run_panel(a1, "ch7/arm_fixed")
     else:
         for i, m in enumerate(ds["method"].values):
             for s in ds["seed"].values:
@@ -291,7 +279,7 @@ def _fig_arm(results, outdir):
         a1.legend()
     ds = results.get("ch7/arm_random")
     if ds is None:
-        _not_run(a2, "ch7/arm_random")
+        not_run_panel(a2, "ch7/arm_random")
     else:
         for s in ds["seed"].values:
             a2.plot(ds["check"].values, ds["test_error"].sel(seed=s).values, lw=1,
@@ -302,7 +290,7 @@ def _fig_arm(results, outdir):
         a2.set_ylabel("mean test error [m]")
         a2.set_title("random targets (§7.3.2.2)")
         a2.legend()
-    return _save(fig, Path(outdir) / "arm_learning.png")
+    return save_figure(fig, Path(outdir) / "arm_learning.png")
 
 
 def _fig_curve(results, key, var, ylabel, name, outdir, xdim):
@@ -311,14 +299,14 @@ def _fig_curve(results, key, var, ylabel, name, outdir, xdim):
     ds = results.get(key)
     fig, ax = plt.subplots(figsize=(6.4, 3.6))
     if ds is None:
-        _not_run(ax, key)
+        not_run_panel(ax, key)
     else:
         for s in ds["seed"].values:
             ax.plot(ds[xdim].values, ds[var].sel(seed=s).values, lw=1, label=f"seed {s}")
         ax.set_xlabel(xdim.replace("_", " ") + "s")
         ax.set_ylabel(ylabel)
         ax.legend()
-    return _save(fig, Path(outdir) / f"{name}.png")
+    return save_figure(fig, Path(outdir) / f"{name}.png")
 
 
 def _fig_frames(results, key, name, outdir, scale):
@@ -327,8 +315,8 @@ def _fig_frames(results, key, name, outdir, scale):
     ds = results.get(key)
     if ds is None or "frames" not in ds:
         fig, ax = plt.subplots(figsize=(6.4, 1.6))
-        _not_run(ax, key)
-        return _save(fig, Path(outdir) / f"{name}.png")
+        not_run_panel(ax, key)
+        return save_figure(fig, Path(outdir) / f"{name}.png")
     f = ds["frames"].values
     n = f.shape[0]
     fig, axes = plt.subplots(1, n, figsize=(scale * n, scale * f.shape[1] / f.shape[2] + 0.4))
@@ -336,7 +324,7 @@ def _fig_frames(results, key, name, outdir, scale):
         ax.imshow(img, interpolation="nearest")
         ax.set_title(f"t = {t:.2f} s", fontsize=8)
         ax.set_axis_off()
-    return _save(fig, Path(outdir) / f"{name}.png")
+    return save_figure(fig, Path(outdir) / f"{name}.png")
 
 
 def figures(results, outdir) -> list[Figure]:

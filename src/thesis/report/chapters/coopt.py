@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from thesis.report.format import fmt, mean_spread
+from thesis.report.plotting import not_run_panel, save_figure
 from thesis.report.model import NOT_RUN, Figure, Table
 
 ARMS = "coopt/arms"
@@ -84,19 +85,6 @@ def tables(results) -> list[Table]:
 
 # ----------------------------------------------------------------------------- figures
 
-def _save(fig, path):
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
-
-
-def _not_run(ax, what):
-    ax.text(0.5, 0.5, f"{what}: {NOT_RUN}", ha="center", va="center", transform=ax.transAxes)
-    ax.set_axis_off()
-
 
 def _fig_learning(results, path):
     import matplotlib.pyplot as plt
@@ -104,9 +92,9 @@ def _fig_learning(results, path):
     ds = results.get(ARMS)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     if ds is None:
-        _not_run(axes[0], "coopt/arms")
-        _not_run(axes[1], "coopt/arms")
-        return _save(fig, path)
+        not_run_panel(axes[0], "coopt/arms")
+        not_run_panel(axes[1], "coopt/arms")
+        return save_figure(fig, path)
     colours = {"controller": "C0", "morphology": "C1", "joint": "C2"}
     x = ds["evaluation"].values
     for arm in ds["arm"].values:
@@ -126,7 +114,7 @@ def _fig_learning(results, path):
     axes[1].set_xlabel("gradient evaluation")
     axes[1].set_ylabel("joint arm's body, fraction of its bounds")
     axes[1].legend(fontsize=7, ncol=2)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _draw_body(ax, values, names, colour, label):
@@ -152,8 +140,8 @@ def _fig_bodies(results, path):
     ds = results.get(ARMS)
     fig, ax = plt.subplots(figsize=(8, 4))
     if ds is None:
-        _not_run(ax, "coopt/arms")
-        return _save(fig, path)
+        not_run_panel(ax, "coopt/arms")
+        return save_figure(fig, path)
     names = list(ds["param"].values)
     s0 = ds["seed"].values[0]
     _draw_body(ax, ds["param_built"].values, names, "0.5", "built (ch7 quadruped)")
@@ -167,7 +155,7 @@ def _fig_bodies(results, path):
     ax.set_xlabel("x [m] (forward)")
     ax.set_ylabel("z [m]")
     ax.legend(fontsize=8, loc="upper right")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _fig_estimators(results, path):
@@ -176,8 +164,8 @@ def _fig_estimators(results, path):
     ds = results.get(GRADS)
     if ds is None:
         fig, ax = plt.subplots(figsize=(6, 3))
-        _not_run(ax, "coopt/gradients")
-        return _save(fig, path)
+        not_run_panel(ax, "coopt/gradients")
+        return save_figure(fig, path)
     G, H = len(ds["group"]), len(ds["horizon"])
     fig, axes = plt.subplots(G, H, figsize=(4.5 * H, 3.4 * G), squeeze=False)
     n = ds["rollouts"].values
@@ -201,7 +189,7 @@ def _fig_estimators(results, path):
             ax.set_xlabel("rollouts")
             ax.set_ylabel("cos(estimate, exact)")
             ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _fig_spread(results, path):
@@ -210,9 +198,9 @@ def _fig_spread(results, path):
     ds = results.get(GRADS)
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
     if ds is None:
-        _not_run(axes[0], "coopt/gradients")
-        _not_run(axes[1], "coopt/gradients")
-        return _save(fig, path)
+        not_run_panel(axes[0], "coopt/gradients")
+        not_run_panel(axes[1], "coopt/gradients")
+        return save_figure(fig, path)
     h = ds["variance_horizon"].values
     for g, c in zip(ds["group"].values, ("C0", "C1")):
         sp = ds["start_relative_spread"].sel({"group": g})
@@ -229,7 +217,7 @@ def _fig_spread(results, path):
         ax.set_xlabel("horizon [steps]")
         ax.set_ylabel(lab)
         ax.legend(fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def figures(results, outdir) -> list[Figure]:
