@@ -72,8 +72,13 @@ def config_slice(config: dict, key: str) -> dict:
 
 def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = None,
                    output: str | Path | None = None, overrides: dict | None = None,
-                   config_file: str | None = None) -> Path:
+                   config_file: str | None = None, perturb: float = 0.0) -> Path:
     """Run registered experiment ``key`` and write its result atomically.
+
+    ``perturb`` > 0 runs it as a perturbed twin (:mod:`thesis.physics.perturbation`: every
+    rollout's initial state, chapter 2's initial weights, moved by that relative size);
+    its default output is then under ``results/<profile>-perturbed/`` and the dataset
+    records the size in ``perturbation_relative``.
 
     Returns:
         The path of the written result (or of the generated input file).
@@ -85,9 +90,12 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
     from thesis import jaxsetup
 
     jaxsetup.configure(config["jax"])
+    from thesis.physics import perturbation
+
     chapter = key.split("/", 1)[0]
     fn = registry.resolve(key)
-    out = Path(output) if output else store.result_path(profile, key)
+    name = store.results_name(profile, perturbed=perturb > 0)
+    out = Path(output) if output else store.result_path(name, key)
     # the chapter's part of the declared slice: an undeclared key is a KeyError, not a
     # setting whose change Snakemake would miss (thesis.registry.READS)
     ctx = RunContext(key=key, profile=profile,
@@ -98,13 +106,16 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
     started = store.now()
     t0 = time.perf_counter()
     log.info("running %s (profile %s) -> %s", key, profile, out)
-    ds = fn(ctx)
+    with perturbation.scope(perturb):
+        ds = fn(ctx)
     wall = time.perf_counter() - t0
     if ds is None:
         if not out.exists():
             raise RuntimeError(f"generator {key} returned without writing {out}")
         log.info("%s wrote %s in %.1f s", key, out, wall)
         return out
+    if perturb:
+        ds = ds.assign_attrs(perturbation_relative=float(perturb))
     store.write_dataset(ds, out, profile=profile, experiment=key,
                         config_slice=config_slice(config, key), started=started,
                         wall_seconds=wall, departures=departures.records(key, config))
@@ -115,7 +126,7 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
 def _cmd_run(args) -> int:
     run_experiment(args.key, args.profile, inputs=_kv(args.input, "input"),
                    output=args.output, overrides=_overrides(args.set),
-                   config_file=args.config_file)
+                   config_file=args.config_file, perturb=args.perturb)
     return 0
 
 
@@ -131,16 +142,17 @@ def _cmd_bench(args) -> int:
 def _cmd_check(args) -> int:
     from thesis.claims import evaluate_all
 
-    config = load_config(args.profile, args.config_file)
+    load_config(args.profile, args.config_file)  # a broken profile is an error here too
     results = store.load_results(args.profile, args.results)
-    verdicts = evaluate_all(results, config=config) if _takes_config(evaluate_all) \
-        else evaluate_all(results)
+    # the perturbed twin runs of some chapters, where they were made (thesis --perturb)
+    twins = store.load_results(store.results_name(args.profile, perturbed=True), args.results)
+    verdicts = evaluate_all(results, twin_runs=twins)
     out = Path(args.output or Path(args.results) / args.profile / "claims.json")
     counts: dict[str, int] = {}
     for v in verdicts:
         counts[v["reading"]] = counts.get(v["reading"], 0) + 1
     payload = {"profile": args.profile, "n_results": len(results), "readings": counts,
-               "claims": verdicts}
+               "twin_runs": sorted(twins), "claims": verdicts}
     with store.atomic_path(out) as tmp:
         tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     log.info("claims: %s -> %s", counts, out)
@@ -160,12 +172,6 @@ def _write_power(path: Path) -> None:
         tmp.write_text(json.dumps(calibration.power_table(), indent=2,
                                   default=_json_default))
     log.info("power of the decision rules -> %s", path)
-
-
-def _takes_config(fn) -> bool:
-    import inspect
-
-    return "config" in inspect.signature(fn).parameters
 
 
 def _json_default(o):
@@ -192,10 +198,27 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _perturb_size(text: str) -> float:
+    """``--perturb``'s value: a relative size from 0 to 1e-3."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value <= 1e-3:
+        raise argparse.ArgumentTypeError(
+            f"--perturb = {text!r} is not allowed; allowed values: 0 (off) to 1e-3 "
+            "(rounding level: 1e-7)")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="thesis", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("-v", "--verbose", action="store_true", help="debug logging")
+    p.add_argument("--perturb", type=_perturb_size, default=0.0, metavar="REL",
+                   help="run as a perturbed twin: initial states (and ch2's initial weights) "
+                        "moved by this relative size, e.g. 1e-7 (about one float32 ulp); "
+                        "results go to results/<profile>-perturbed/ (0: off)")
     sub = p.add_subparsers(dest="command", required=True)
 
     def common(sp):

@@ -179,6 +179,17 @@ def result_path(profile: str, key: str, root: str | Path = RESULTS_DIR) -> Path:
     return Path(root) / profile / chapter / f"{artifact}.nc"
 
 
+#: Suffix of the results directory of a profile's perturbed twin runs (``thesis --perturb``).
+PERTURBED_SUFFIX = "-perturbed"
+
+
+def results_name(profile: str, perturbed: bool = False) -> str:
+    """Directory name under ``results/`` of a profile's runs: ``<profile>``, or
+    ``<profile>-perturbed`` for its perturbed twin runs (``thesis --perturb``,
+    :mod:`thesis.physics.perturbation`)."""
+    return profile + PERTURBED_SUFFIX if perturbed else profile
+
+
 def load_results(profile: str, root: str | Path = RESULTS_DIR) -> dict[str, xr.Dataset]:
     """Every result of a profile, keyed ``"<chapter>/<artifact>"`` (e.g. ``"ch2/table2_2"``).
 

@@ -91,3 +91,31 @@ def test_evaluate_all_carries_paper_and_measured_numbers():
     assert {p["value"] for p in row["paper"]} >= {4.4, 7.8, 1.8}
     assert out["ch3.spline_fastest"]["status"] == "not_run"
     json.dumps(list(out.values()), allow_nan=False)
+
+
+def test_a_verdict_the_perturbed_twin_runs_move_is_fragile():
+    """``twin_runs`` (results/<profile>-perturbed/) decide every claim that reads them a
+    second time; a claim whose verdict they change is marked fragile, one they leave alone
+    is not, and a claim on results without twins carries neither."""
+    coords = {"model": ["ffn_spn", "rnn_spn"], "d": [1, 2, 3],
+              "transform": ["bilinear", "bilinear_no_skew", "chirp_z", "none"]}
+    rng = np.random.default_rng(0)
+
+    def table(none_error):
+        err = np.array([0.03, 0.035, 0.036, none_error]) \
+            + 0.001 * rng.standard_normal((4, 2, 3, 4))
+        return xr.Dataset({"test_error": xr.DataArray(
+            err, dims=("seed", "model", "d", "transform"), coords=coords,
+            attrs={"units": "1", "long_name": "per-digit test error"})})
+
+    run = {"ch2/table2_2": table(0.08)}
+    same = {o["id"]: o for o in claims.evaluate_all(run, twin_runs={"ch2/table2_2": table(0.08)})}
+    moved = {o["id"]: o for o in claims.evaluate_all(run, twin_runs={"ch2/table2_2": table(0.03)})}
+    cid = "ch2.spatial_transformers_beat_plain"
+    assert same[cid]["status"] == "reproduced" and same[cid]["fragile"] is False
+    assert same[cid]["perturbed"]["status"] == "reproduced"
+    assert moved[cid]["status"] == "reproduced" and moved[cid]["fragile"] is True
+    assert moved[cid]["perturbed"]["status"] != "reproduced"
+    alone = {o["id"]: o for o in claims.evaluate_all(run)}
+    assert "fragile" not in alone[cid] and "perturbed" not in alone[cid]
+    assert "fragile" not in moved["ch3.spline_fastest"]

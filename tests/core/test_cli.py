@@ -29,6 +29,12 @@ FAKE = textwrap.dedent('''
                          coords={"seed": seeds}, attrs={"units": "1", "long_name": "width"})
         return xr.Dataset({"width": v}, attrs={"thesis_ref": "Tab. 2.1", "seeds": seeds})
 
+    def sees_perturbation(ctx):
+        from thesis.physics import perturbation
+        v = xr.DataArray([perturbation.relative()], dims="seed", coords={"seed": [0]},
+                         attrs={"units": "1", "long_name": "relative perturbation seen"})
+        return xr.Dataset({"seen": v}, attrs={"thesis_ref": "Tab. 0.0", "seeds": [0]})
+
     def generator(ctx):
         from thesis.store import atomic_path
         with atomic_path(ctx.output) as tmp:
@@ -43,6 +49,7 @@ def fake_registry(tmp_path, monkeypatch):
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/good", "fake_experiments:good")
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/diverges", "fake_experiments:diverges")
     monkeypatch.setitem(registry.EXPERIMENTS, "ch9/gen", "fake_experiments:generator")
+    monkeypatch.setitem(registry.EXPERIMENTS, "ch9/sees", "fake_experiments:sees_perturbation")
     monkeypatch.setitem(registry.EXPERIMENTS, "ch2/widths", "fake_experiments:widths")
     monkeypatch.setitem(registry.BENCHMARKS, "fake", "ch9/good")
     monkeypatch.setenv("XLA_FLAGS", "--xla_force_host_platform_device_count=2")
@@ -90,6 +97,29 @@ def test_unknown_experiment_and_bad_config_are_clear(fake_registry, tmp_path, ca
                      str(tmp_path / "x.nc"), "--set", "ch2.bogus=1"]) == 2
     assert "ch2.bogus" in capsys.readouterr().err
     assert not (tmp_path / "x.nc").exists()
+
+
+def test_perturbed_twin_run_goes_beside_the_profile(fake_registry, tmp_path, monkeypatch,
+                                                    capsys):
+    """``thesis --perturb REL run``: the experiment runs under the perturbation (and only
+    it: the size is back to 0 after), its default output is under
+    results/<profile>-perturbed/ and records the size; an out-of-range size is refused."""
+    from thesis.physics import perturbation
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["--perturb", "1e-7", "run", "ch9/sees", "--profile", "smoke"]) == 0
+    assert perturbation.relative() == 0.0
+    twin = store.read_dataset(tmp_path / "results" / "smoke-perturbed" / "ch9" / "sees.nc")
+    assert twin["seen"].values.tolist() == [1e-7]
+    assert twin.attrs["perturbation_relative"] == 1e-7
+    assert not (tmp_path / "results" / "smoke").exists()
+    assert cli.main(["run", "ch9/sees", "--profile", "smoke"]) == 0
+    plain = store.read_dataset(tmp_path / "results" / "smoke" / "ch9" / "sees.nc")
+    assert plain["seen"].values.tolist() == [0.0]
+    assert "perturbation_relative" not in plain.attrs
+    with pytest.raises(SystemExit):
+        cli.main(["--perturb", "0.5", "run", "ch9/sees", "--profile", "smoke"])
+    assert "allowed values: 0 (off) to 1e-3" in capsys.readouterr().err
 
 
 def test_config_slice_holds_what_the_experiment_reads():

@@ -111,6 +111,25 @@ def test_other_profiles_plan_without_running(profile):
     assert proc.returncode == 0, proc.stderr[-4000:]
 
 
+def test_perturbed_twin_runs_plan_beside_the_profile():
+    """``--config perturb=1e-7`` plans every chapter but ch6 (its runs carry their own
+    twins) into results/smoke-perturbed/ with ``thesis --perturb``, and no claims or report
+    job (the profile's own claims read the twins); an out-of-range size is refused."""
+    proc = snakemake("--config", "profile=smoke", "perturb=1e-7", "-n", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    out = proc.stdout + proc.stderr
+    assert "results/smoke-perturbed/ch3/table3_1.nc" in out
+    assert "results/smoke-perturbed/ch7/ball.nc" in out
+    assert "data/synthetic/puppy/smoke-perturbed.h5" in out
+    commands = [line for line in out.splitlines() if " -m thesis " in line]
+    assert commands and all("-m thesis --perturb 1e-07 " in line for line in commands)
+    assert "results/smoke/" not in out.replace("results/smoke-perturbed/", "")
+    assert "ch6_" not in out and "rule claims" not in out and "reports/smoke" not in out
+    bad = snakemake("--config", "profile=smoke", "perturb=0.5", "-n", timeout=300)
+    assert bad.returncode != 0
+    assert "perturb" in bad.stdout + bad.stderr
+
+
 def test_bad_config_stops_before_any_job():
     proc = snakemake("--config", "profile=smoke", "root_seed=-4", "-n", timeout=300)
     assert proc.returncode != 0

@@ -105,3 +105,18 @@ def test_report_page_and_summary_carry_the_method_section(tmp_path):
     assert RAW_KEY not in _visible(page)
     summary = (out / "summary.md").read_text()
     assert "## Method" in summary and "| rule4_beats | advantage of 1 sd |" in summary
+
+
+def test_fragility_section_counts_twin_verdicts_per_chapter():
+    claims = [
+        {"id": "ch3.a", "chapter": 3, "status": "reproduced",
+         "perturbed": {"status": "inconclusive"}, "fragile": True},
+        {"id": "ch3.b", "chapter": 3, "status": "reproduced",
+         "perturbed": {"status": "reproduced"}, "fragile": False},
+        {"id": "ch3.c", "chapter": 3, "status": "inconclusive"},
+        {"id": "ch5.a", "chapter": 5, "status": "reproduced"},
+    ]
+    page = V.fragility_html(claims, ["ch3/table3_1", "ch3/fig3_4"])
+    assert "2 of 3 claims decided on twins, 1 fragile: ch3.a" in page
+    assert "<td>5</td><td>no twin runs</td>" in page
+    assert "Twin runs read: 2 results (ch3)" in page

@@ -12,8 +12,13 @@ from thesis import resources as _resources
 config.update(validate_config(config))
 
 PROFILE = config["profile"]
+# `--config perturb=1e-7`: the chapters' perturbed twin runs (thesis.physics.perturbation),
+# into results/<profile>-perturbed/ (and its own data, logs and benchmarks); `thesis check`
+# decides every claim on them too and marks a verdict they move as fragile.
+PERTURB = float(config.get("perturb", 0.0))
+RUNS = f"{PROFILE}-perturbed" if PERTURB else PROFILE
 # The CLI of this environment (the interpreter running snakemake), independent of PATH.
-THESIS = f"{sys.executable} -m thesis"
+THESIS = f"{sys.executable} -m thesis" + (f" --perturb {PERTURB!r}" if PERTURB else "")
 # "coopt" is §8.2 made real (thesis.coopt): a report section like a chapter's.
 CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7", "coopt"]
 
@@ -37,8 +42,9 @@ CHAPTER_CODE = {
 
 
 def result(ch, name):
-    """results/<profile>/<chapter>/<artifact>.nc"""
-    return f"results/{PROFILE}/{ch}/{name}.nc"
+    """results/<profile>/<chapter>/<artifact>.nc (results/<profile>-perturbed/... for the
+    perturbed twin runs)"""
+    return f"results/{RUNS}/{ch}/{name}.nc"
 
 
 def data_path(*parts):
@@ -47,11 +53,11 @@ def data_path(*parts):
 
 
 def log_path(ch, name):
-    return f"logs/{PROFILE}/{ch}/{name}.log"
+    return f"logs/{RUNS}/{ch}/{name}.log"
 
 
 def bench_path(ch, name):
-    return f"benchmarks/{PROFILE}/{ch}/{name}.tsv"
+    return f"benchmarks/{RUNS}/{ch}/{name}.tsv"
 
 
 # What each job needs, measured from benchmarks/<profile>/ (thesis.resources).

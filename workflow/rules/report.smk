@@ -1,7 +1,11 @@
 # Claims, figures and the HTML report. Figures are their own rules (one per chapter),
 # separate from the simulations, so restyling never reruns an experiment.
+import glob
 
 ALL_RESULTS = [f for ch in CHAPTERS for f in CHAPTER_TARGETS[ch]]
+# The perturbed twin runs made so far (`--config perturb=...`, common.smk): the claims are
+# decided on them too, and decided again when one is added or rerun.
+TWIN_RUNS = sorted(glob.glob(f"results/{PROFILE}-perturbed/*/*.nc"))
 REPORT_CODE = code_version(*CORE_CODE, "claims", "paper", "report")
 CHAPTER_TITLES = {
     "ch2": "Chapter 2",
@@ -19,6 +23,7 @@ rule claims:
         "Deciding every claim of the thesis from the {PROFILE} results"
     input:
         ALL_RESULTS,
+        TWIN_RUNS,
     output:
         json=f"results/{PROFILE}/claims.json",
         # the decision rules' power table, written beside claims.json (thesis.cli)

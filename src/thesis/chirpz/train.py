@@ -38,6 +38,7 @@ import numpy as np
 import optax
 
 from thesis.chirpz.nets import NetSpec, apply_net, init_net
+from thesis.physics.perturbation import perturb_tree
 
 __all__ = ["TrainResult", "train", "per_digit_error", "make_optimizer", "optimizer_settings",
            "localisation_labels"]
@@ -180,7 +181,8 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     """
     t0 = time.perf_counter()
     k_init, k_drop = jax.random.split(key)
-    params = init_net(k_init, spec)
+    # initial weights moved at the rounding level under thesis --perturb (else as drawn)
+    params = perturb_tree(init_net(k_init, spec))
     n_params = int(sum(v.size for v in jax.tree_util.tree_leaves(params)))
     optimizer, train_step, errors = _make_steps(spec, optimizer_settings(cfg))
     opt_state = optimizer.init(params)

@@ -68,15 +68,24 @@ def _paper_entry(key: str) -> dict[str, object]:
 TWIN_SUFFIX = "_perturbed"
 
 
-def perturbed_view(results: Mapping[str, xr.Dataset]) -> tuple[dict[str, xr.Dataset], set]:
-    """(results with every variable replaced by its perturbed twin's ``<name>_perturbed``
-    where a dataset has one, the keys of the datasets that had twins). Deciding a claim
-    on the view decides it as the twin runs would have (issue: a verdict is fragile when
-    a rounding-level perturbation of the runs moves it)."""
+def perturbed_view(results: Mapping[str, xr.Dataset],
+                   twin_runs: Mapping[str, xr.Dataset] | None = None
+                   ) -> tuple[dict[str, xr.Dataset], set]:
+    """(the results as perturbed twin runs give them, the keys of the results that have
+    twins). Two kinds of twins: a result of ``twin_runs`` (the same experiment rerun with
+    ``thesis --perturb``, ``results/<profile>-perturbed/``) replaces the result of the same
+    key; a dataset that carries its twins' values (``<name>_perturbed``, chapter 6's
+    per-run twins, :mod:`thesis.embodied.twins`) has each variable replaced by its twin's.
+    Deciding a claim on the view decides it as the twin runs would have (issue: a verdict
+    is fragile when a rounding-level perturbation of the runs moves it)."""
     view, twinned = dict(results), set()
+    for key, ds in (twin_runs or {}).items():
+        if key in results:
+            view[key] = ds
+            twinned.add(key)
     for key, ds in results.items():
         names = [n for n in ds.data_vars if n.endswith(TWIN_SUFFIX)]
-        if not names:
+        if not names or key in twinned:
             continue
         swapped = ds.copy()
         for n in names:
@@ -114,14 +123,17 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
 
 
 def evaluate_all(results: Mapping[str, xr.Dataset], *,
-                 n_resamples: int | None = None) -> list[dict[str, object]]:
-    """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`).
+                 n_resamples: int | None = None,
+                 twin_runs: Mapping[str, xr.Dataset] | None = None
+                 ) -> list[dict[str, object]]:
+    """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`); ``twin_runs``:
+    the profile's perturbed twin runs, if any were made (:func:`perturbed_view`).
 
     ``n_resamples`` (config ``report.bootstrap_resamples``) sets the resamples of
     :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
     is the Student t interval), so it does not change a verdict.
     """
-    view = perturbed_view(results)
+    view = perturbed_view(results, twin_runs)
     if n_resamples is None:
         return [evaluate(c, results, view) for c in CLAIMS]
     with stats.resamples(n_resamples):

@@ -58,6 +58,7 @@ from thesis import seeding
 from thesis.diffphys import bptt, frames, nets
 from thesis.physics import decay_gradient, render, step
 from thesis.physics.math import safe_norm
+from thesis.physics.perturbation import at_start
 from thesis.physics.models import cartpole
 from thesis.store import WALL_CLOCK
 
@@ -120,6 +121,7 @@ def episode_fn(model, n_steps: int, pool_every: int, *, grad_decay=1.0, remat=Fa
             return (s2, img, f1), out
 
         f = jax.checkpoint(body) if remat else body
+        state0 = at_start(state0)  # thesis --perturb (identity without it)
         img0 = render(model, state0, CAMERA)
         _, traj = jax.lax.scan(f, (state0, img0, img0), None, length=int(n_steps))
         return jnp.mean(traj["cost"]), traj

@@ -41,6 +41,7 @@ from thesis.errors import SimulationDiverged
 from thesis.gaits import leg as L
 from thesis.physics import sensors as all_sensors
 from thesis.physics import step
+from thesis.physics.perturbation import scale_positions
 
 O = importlib.import_module("thesis.physics.models.oncilla")
 
@@ -85,13 +86,13 @@ def read_encoders(q, key, noise_std, resolution):
 
 def perturbed(state0, relative, seed):
     """``state0`` with every body's position scaled by ``1 + relative * u``, u standard
-    normal per coordinate from ``jax.random.key(seed)``: a twin run started at the
+    normal per coordinate from ``jax.random.key(seed)``
+    (:func:`thesis.physics.perturbation.scale_positions`): a twin run started at the
     rounding level (``relative`` ~1e-7 is about one float32 ulp, so a coordinate moves
     by 0, 1 or a few ulp) measures how far a closed loop
     carries a last-bit difference (:mod:`thesis.embodied.twins`). ``relative = 0`` returns
     the state bit for bit."""
-    u = jax.random.normal(jax.random.key(seed), state0.pos.shape, state0.pos.dtype)
-    return state0.replace(pos=state0.pos + state0.pos * (relative * u))
+    return scale_positions(state0, relative, seed)
 
 
 def _run_one(model, state0, run, substeps: int, n_steps: int):

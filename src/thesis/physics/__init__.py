@@ -16,7 +16,9 @@ Public API (engine_api.md); everything not re-exported here is private:
 * ``Builder`` elements for chapters 4-6: ``add_sphere_field`` (static pebbles, K nearest
   per contact sphere), ``add_tether`` (tension-only thread to a rail),
   ``add_contact_sphere(..., direction=...)`` with ``add_material(..., friction_forward=,
-  friction_backward=)`` (directional friction).
+  friction_backward=)`` (directional friction);
+* ``perturbation``: rounding-level perturbed twins (``scale_positions``; the process-wide
+  size of ``thesis --perturb`` that every ``rollout`` starts under).
 
 Module map: ``types`` (Model, State, enums), ``math``, ``builder`` + ``tables`` (host ->
 device), ``kinematics`` (joint frames, coordinates, rows), ``collision``, ``constraint``
@@ -42,6 +44,7 @@ from thesis.physics.types import Model as Model
 from thesis.physics.types import ServoKind as ServoKind
 from thesis.physics.types import State as State
 
+from thesis.physics import perturbation as perturbation
 from thesis.physics import terrain as terrain
 from thesis.physics.terrain import grade_angle as grade_angle
 from thesis.physics.terrain import incline as incline
@@ -59,4 +62,5 @@ __all__ = [
     "render_batch", "project_points",
     "box_inertia", "sphere_inertia", "orthonormalize", "safe_norm",
     "terrain", "incline", "grade_angle", "set_material", "set_field", "clear_field",
+    "perturbation",
 ]

@@ -28,6 +28,7 @@ import numpy as np
 from jax.sharding import Mesh, PartitionSpec as P
 
 from thesis.physics.math import decay_gradient
+from thesis.physics.perturbation import at_start
 from thesis.physics.sensors import sensors as all_sensors
 from thesis.physics.step import step
 from thesis.physics.types import Model, State
@@ -56,8 +57,13 @@ def rollout(model: Model, state0: State, controller, params, n_steps: int, *,
     Returns:
         ``(final_state, trajectory)``; ``trajectory[name]`` has shape (n_steps, ...) and
         holds the value *after* each step (``"action"``: the command applied in it).
+
+    Under a process-wide perturbation (``thesis --perturb``) the rollout starts from
+    :func:`thesis.physics.perturbation.at_start` of ``state0``; without one, from
+    ``state0`` itself.
     """
     record = tuple(record)
+    state0 = at_start(state0)
 
     def body(carry, _):
         s, mem = carry

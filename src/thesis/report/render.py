@@ -287,7 +287,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     outdir = Path(outdir)
     results = store.load_results(profile, results_root)
     claims_path = Path(results_root) / profile / "claims.json"
-    claims = json.loads(claims_path.read_text())["claims"] if claims_path.exists() else []
+    decided = json.loads(claims_path.read_text()) if claims_path.exists() else {}
+    claims = decided.get("claims", [])
     sections = build_sections(results, outdir)
     power = read_power(profile, results_root)
 
@@ -300,7 +301,7 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
             "declared deviation from the thesis's setup is in effect in the results it rests "
             "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
-            V.method_html(power)]
+            V.method_html(power), V.fragility_html(claims, decided.get("twin_runs"))]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:

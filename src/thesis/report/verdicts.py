@@ -278,6 +278,38 @@ def method_html(power: dict | None) -> str:
               f"Nominal false-'reproduced' rate {100 * power.get('nominal', 0.025):g} %.</p>")
 
 
+def fragility_html(claims: list[dict], twin_runs: list[str] | None = None) -> str:
+    """How much of each chapter's verdicts survives a rounding-level perturbation of its
+    runs: per chapter, the claims decided again on perturbed twin runs (chapter 6's own
+    per-run twins; every other chapter's ``results/<profile>-perturbed/``, ``twin_runs``)
+    and those whose verdict moved (fragile), or that no twin runs were made."""
+    text = ("<h3 id=\"fragility\">Fragility: the verdicts on perturbed twin runs</h3><p>A "
+            "closed loop that is chaotic at the rounding level turns a last-bit difference "
+            "(another CPU's kernels) into another outcome. A twin run starts every "
+            "simulation (chapter 2: every network's initial weights) moved by about one "
+            "float32 ulp (relative 1e-7) and is decided by the same rules; a verdict it moves "
+            "is <b class=fragile>fragile</b>. Chapter 6's runs carry their own twins; the "
+            "other chapters' are made with <code>snakemake --config profile=&lt;p&gt; "
+            "perturb=1e-7</code> into <code>results/&lt;p&gt;-perturbed/</code>.</p>")
+    rows = []
+    for ch in sorted({int(c.get("chapter", 0)) for c in claims}):
+        sel = [c for c in claims if int(c.get("chapter", 0)) == ch]
+        checked = [c for c in sel if "perturbed" in c]
+        fragile = [c["id"] for c in checked if c.get("fragile")]
+        if not checked:
+            what = "no twin runs"
+        else:
+            what = (f"{len(checked)} of {len(sel)} claims decided on twins, "
+                    f"{len(fragile)} fragile" + (": " + ", ".join(fragile) if fragile else ""))
+        rows.append(f"<tr><td>{ch}</td><td>{html.escape(what)}</td></tr>")
+    if twin_runs:
+        text += (f"<p class=note>Twin runs read: {len(twin_runs)} results ("
+                 + html.escape(", ".join(sorted({k.split('/')[0] for k in twin_runs})))
+                 + ").</p>")
+    return (text + "<table><thead><tr><th>chapter</th><th>verdicts on twin runs</th></tr>"
+            "</thead><tbody>" + "".join(rows) + "</tbody></table>")
+
+
 _RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
                "rule10_majority": "in most runs"}
 
