@@ -19,7 +19,8 @@ cluster job is neither killed for exceeding its request nor holding a node it do
 A profile never run here (``paper``) has no section; its rules then request the values
 they declare themselves, which are upper estimates, not measurements
 (:func:`lookup` returns ``None``). ``python -m thesis.resources update <profile>`` after a
-run rewrites the profile's section and prints what changed.
+run rewrites the profile's section and prints what changed (``--replace ch2`` after a
+chapter was rerun whole drops its entries that no job of the rerun measured).
 """
 
 from __future__ import annotations
@@ -116,19 +117,25 @@ def lookup(table: dict, profile: str, name: str) -> dict[str, int] | None:
 
 
 def update(profile: str, bench_root: str | Path = "benchmarks",
-           path: str | Path = RESOURCES_FILE) -> list[str]:
+           path: str | Path = RESOURCES_FILE, replace: tuple[str, ...] = ()) -> list[str]:
     """Rewrite ``profile``'s section of the resources file from ``bench_root/<profile>``.
 
     Names measured before but absent now keep their entry (a partial run does not forget
-    the rest). Returns one line per change.
+    the rest), except under the chapters named in ``replace`` (e.g. ``("ch2",)``), which
+    were rerun whole: there an entry without a benchmark now (a seed the profile no longer
+    runs) is dropped. Returns one line per change.
     """
     path = Path(path)
     table = load(path)
     new = measure(Path(bench_root) / profile)
     if not new:
         raise ValueError(f"no benchmark files under {Path(bench_root) / profile}")
-    old = table.get(profile, {})
+    old = dict(table.get(profile, {}))
     changes = []
+    for name in sorted(old):
+        if name.split("/", 1)[0] in replace and name not in new:
+            del old[name]
+            changes.append(f"{profile} {name}: dropped (no benchmark in a rerun chapter)")
     for name, entry in sorted(new.items()):
         before = old.get(name)
         was = "new" if before is None else f"{before['mem_mb']} MB, {before['runtime']} min"
@@ -142,12 +149,19 @@ def update(profile: str, bench_root: str | Path = "benchmarks",
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m thesis.resources update <profile> [benchmarks dir]``."""
+    """``python -m thesis.resources update <profile> [benchmarks dir] [--replace ch2 ...]``
+    (``--replace``: chapters rerun whole, see :func:`update`)."""
     args = list(sys.argv[1:] if argv is None else argv)
+    replace: tuple[str, ...] = ()
+    if "--replace" in args:
+        i = args.index("--replace")
+        args, replace = args[:i], tuple(args[i + 1:])
     if len(args) < 2 or args[0] != "update":
-        print("usage: python -m thesis.resources update <profile> [benchmarks dir]")
+        print("usage: python -m thesis.resources update <profile> [benchmarks dir] "
+              "[--replace CHAPTER ...]")
         return 2
-    for line in update(args[1], args[2] if len(args) > 2 else "benchmarks") or ["unchanged"]:
+    bench = args[2] if len(args) > 2 else "benchmarks"
+    for line in update(args[1], bench, replace=replace) or ["unchanged"]:
         print(line)
     return 0
 

@@ -59,6 +59,25 @@ def test_update_writes_profile_section_and_keeps_unmeasured_names(tmp_path):
         R.update("paper", bench, out)
 
 
+def test_update_replacing_a_rerun_chapter_drops_its_unmeasured_names(tmp_path):
+    bench = tmp_path / "benchmarks"
+    for seed in range(5):
+        _bench(bench / "default" / "ch2" / f"table2_2_ffn_spn_seed{seed}.tsv",
+               [(60.0, 700.0, 60.0)])
+    _bench(bench / "default" / "ch3" / "table3_1.tsv", [(60.0, 700.0, 60.0)])
+    out = tmp_path / "resources.yaml"
+    R.update("default", bench, out)
+    for seed in (3, 4):
+        (bench / "default" / "ch2" / f"table2_2_ffn_spn_seed{seed}.tsv").unlink()
+    (bench / "default" / "ch3" / "table3_1.tsv").unlink()
+    changes = R.update("default", bench, out, replace=("ch2",))
+    assert changes == [f"default ch2/table2_2_ffn_spn_seed{s}: dropped (no benchmark in a "
+                       "rerun chapter)" for s in (3, 4)]
+    table = yaml.safe_load(out.read_text())
+    assert set(table["default"]) == {f"ch2/table2_2_ffn_spn_seed{s}" for s in range(3)} | {
+        "ch3/table3_1"}  # ch3 was not rerun: its entry stays
+
+
 def test_lookup_exact_pattern_and_missing():
     table = {"default": {"ch2/table2_2_ffn_spn_seed0": {"mem_mb": 3000, "runtime": 40},
                          "ch2/table2_2_ffn_spn_seed1": {"mem_mb": 3500, "runtime": 30},
