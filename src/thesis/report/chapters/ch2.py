@@ -95,6 +95,7 @@ def _epochs(attr) -> str:
 
 def _curves(ds, outdir: Path) -> Figure | None:
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     if ds is None or "valid_error" not in ds:
         return None
@@ -111,12 +112,15 @@ def _curves(ds, outdir: Path) -> Figure | None:
                 v = np.atleast_2d(v)
                 if not np.isfinite(v).any():
                     continue
+                ran = np.isfinite(v).any(axis=0)  # a model that trains fewer epochs
+                v, ep = v[:, ran], epochs[ran]
                 mean = np.nanmean(v, axis=0)
-                ax.plot(epochs, mean, color=colors.get(str(t)), label=HEAD.get(str(t), str(t)))
+                ax.plot(ep, mean, color=colors.get(str(t)), label=HEAD.get(str(t), str(t)))
                 if v.shape[0] > 1:
-                    ax.fill_between(epochs, np.nanmin(v, axis=0), np.nanmax(v, axis=0),
+                    ax.fill_between(ep, np.nanmin(v, axis=0), np.nanmax(v, axis=0),
                                     color=colors.get(str(t)), alpha=0.15, lw=0)
             ax.set_title(f"{LABEL.get(str(m), m)}, d={int(d)}")
+            ax.xaxis.set_major_locator(MaxNLocator(integer=True))
             ax.set_xlabel("epoch")
             if j == 0:
                 ax.set_ylabel("validation error per digit (%)")
@@ -128,7 +132,9 @@ def _curves(ds, outdir: Path) -> Figure | None:
     plt.close(fig)
     return Figure(id="training_curves", title="Validation error during training (mean over "
                   "seeds, band = min-max)", thesis_ref="Tab. 2.2", path=path,
-                  note=f"{ds.attrs.get('n_train')} training sequences.")
+                  note=f"{ds.attrs.get('n_train')} training sequences; an epoch is "
+                       f"{ds.attrs.get('epoch_sequences') or 'a pass over them'}"
+                       " sequences.")
 
 
 def _scaling(ds, outdir: Path) -> Figure | None:
