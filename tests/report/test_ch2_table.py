@@ -28,3 +28,22 @@ def test_rows_outside_the_run_grid_say_not_run_and_the_note_names_the_grid():
     assert rows["RNN-SPN d=2"][2].startswith("50")
     assert "d run: [2]" in t.note
     assert "d run: [1, 2, 3]" in _table([1, 2, 3]).note
+
+
+def test_cells_carry_the_t_interval_the_claims_decide_on():
+    from scipy import stats as sps
+
+    err = np.full((2, 1, 4, 3), 0.25)
+    err[0, 0, 0] = [0.19, 0.14, 0.27]  # ffn_spn, d=1, bilinear: three seeds
+    ds = xr.Dataset(
+        {"test_error": (("model", "d", "transform", "seed"), err, {"units": "1"})},
+        coords={"model": ["ffn_spn", "rnn_spn"], "d": [1],
+                "transform": list(ch2.TRANSFORMS), "seed": [0, 1, 2]},
+    )
+    t = ch2.tables({"ch2/table2_2": ds})[0]
+    cell = {r[0]: r for r in t.rows}["FFN-SPN d=1"][2]
+    v = np.array([19.0, 14.0, 27.0])
+    half = sps.t.ppf(0.975, 2) * v.std(ddof=1) / np.sqrt(3)
+    assert cell == f"20 [{v.mean() - half:.3g}, {v.mean() + half:.3g}] (n=3)"
+    assert "95 % Student t interval" in t.note
+    assert {r[0]: r for r in t.rows}["FFN-SPN d=1"][4] == "25 [25, 25] (n=3)"  # equal seeds

@@ -28,3 +28,17 @@ def mean_spread(values, digits: int = 3) -> str:
     if v.size == 1:
         return f"{fmt(v[0], digits)} (n=1)"
     return f"{fmt(v.mean(), digits)} ± {fmt(v.std(ddof=1), 2)} (n={v.size})"
+
+
+def mean_interval_text(values, digits: int = 3) -> str:
+    """``mean [low, high] (n=k)``: the mean over the finite values (seeds) with its 95 %
+    Student t interval, the interval the claims decide on
+    (:func:`thesis.claims.stats.mean_interval`); one value: ``value (n=1)``."""
+    from thesis.claims import stats
+
+    iv = stats.mean_interval(values)
+    if iv.n == 0:
+        return NOT_RUN
+    if iv.n == 1:
+        return f"{fmt(iv.mean, digits)} (n=1)"
+    return f"{fmt(iv.mean, digits)} [{fmt(iv.low, digits)}, {fmt(iv.high, digits)}] (n={iv.n})"

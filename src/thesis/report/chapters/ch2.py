@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from thesis import paper
-from thesis.report.format import mean_spread
+from thesis.report.format import mean_interval_text
 from thesis.report.model import NOT_RUN, Figure, Table
 
 MODELS = ("ffn_spn", "rnn_spn")
@@ -42,12 +42,12 @@ def _reproduced(ds, model: str, d: int, t: str) -> str:
     except (KeyError, IndexError, ValueError):
         return NOT_RUN
     scale = 100.0 if da.attrs.get("units", "1") == "1" else 1.0
-    return mean_spread(np.asarray(vals, float) * scale)
+    return mean_interval_text(np.asarray(vals, float) * scale)
 
 
 def tables(results: dict) -> list[Table]:
     """Tab. 2.2: per-digit test error [%] per (model, d) row and transform, thesis value
-    beside the reproduced mean ± sd over seeds."""
+    beside the reproduced mean over seeds with its 95 % Student t interval."""
     ds = results.get("ch2/table2_2")
     columns = ["model"]
     for t in TRANSFORMS:
@@ -63,7 +63,8 @@ def tables(results: dict) -> list[Table]:
         note = "ch2/table2_2 not run."
     else:
         a = ds.attrs
-        note = (f"Reproduced: mean ± sd over seeds {[int(s) for s in np.atleast_1d(a.get('seeds', []))]}; "
+        note = ("Reproduced: mean [95 % Student t interval] over seeds "
+                f"{[int(s) for s in np.atleast_1d(a.get('seeds', []))]}; "
                 f"{a.get('n_train')} training / {a.get('n_valid')} validation / "
                 f"{a.get('n_test')} test sequences, at most {_epochs(a.get('max_epochs'))} epochs "
                 f"of {_epoch_size(a)} "
