@@ -166,3 +166,39 @@ def test_scapula_range_sidewise_step():
     np.testing.assert_allclose(step, (math.sin(G.scapula_max) - math.sin(G.scapula_min))
                                * float(-L.forward(G, 0.0, G.knee_max)[1]), rtol=1e-6)
     assert d > 0
+
+
+def test_hind_leg_reaches_tab_4_2_hind_foot(x64):
+    """The hind leg (ONCILLA.md: hind knee motors 2200 counts vs 1850; Tab. 4.2-4.4's
+    hind feet up to 181.9 mm from the hip) reaches R_MAX_HIND at its extension stop,
+    has 2200/1850 of the fore knee range, and at the stance depths of Tab. 4.1 reaches
+    wider than the fore leg."""
+    H = L.oncilla_hind_geometry()
+    a, b = H.femur + H.foot, H.tibia
+    reach = math.sqrt(a * a + b * b - 2 * a * b * math.cos(H.knee_max))
+    assert reach == pytest.approx(L.R_MAX_HIND, abs=1e-9)
+    assert (H.knee_max - H.knee_min) == pytest.approx(
+        (G.knee_max - G.knee_min) * 2200 / 1850, rel=1e-12)
+    assert (H.hip_min, H.hip_max) == (G.hip_min, G.hip_max)
+    # Tab. 4.2's flat optimum: B of the hind locus at (y0_hind - a, -x0)
+    b_hind = np.array([(-16.39 - 95.3) * 1e-3, -0.137])
+    assert bool(L.reachable(H, b_hind, tol=2e-5))
+    assert not bool(L.reachable(G, b_hind, tol=2e-5))
+    # over x0 of Tab. 4.1 the hind leg's horizontal extent contains the fore leg's
+    x0 = np.linspace(0.126, 0.158, 33)
+    fore, hind = L.horizontal_extent(G, x0), L.horizontal_extent(H, x0)
+    assert np.all(hind[:, 0] < fore[:, 0] - 0.015) and np.all(hind[:, 1] > fore[:, 1] + 0.015)
+
+
+def test_inverse_legs_uses_each_legs_geometry(x64):
+    legs = L.leg_geometries()
+    assert legs[0] is legs[1] and legs[2] is legs[3] and legs[0] is not legs[2]
+    r = np.random.default_rng(7)
+    tgt = np.stack([np.stack([r.uniform(-0.05, 0.05, 30), r.uniform(-0.01, 0.01, 30),
+                              r.uniform(-0.15, -0.13, 30)], -1) for _ in range(4)], axis=-2)
+    q = L.inverse_legs(legs, tgt)
+    assert q.shape == (30, 4, 3)
+    for i, g in enumerate(legs):
+        np.testing.assert_allclose(q[:, i], L.inverse3d(g, tgt[:, i], L.SIDES[i]), atol=1e-12)
+        foot = L.forward3d(g, q[:, i, 0], q[:, i, 1], q[:, i, 2], L.SIDES[i])
+        np.testing.assert_allclose(foot, tgt[:, i], atol=1e-7)

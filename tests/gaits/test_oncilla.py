@@ -51,10 +51,14 @@ def test_build_pose_matches_leg_kinematics(robot):
     from thesis.physics.collision import sphere_centres
 
     toes = np.asarray(sphere_centres(model, state.pos, state.rot))[4:]
-    hip0, knee0 = O.build_pose()
-    foot = np.asarray(L.forward(L.oncilla_geometry(), hip0, knee0))
-    assert foot[0] == pytest.approx(0.0, abs=1e-6)
-    assert -foot[1] == pytest.approx(O.BUILD_DEPTH, abs=1e-6)
+    for geom in (L.oncilla_geometry(), L.oncilla_hind_geometry()):
+        hip0, knee0 = O.build_pose(geom)
+        foot = np.asarray(L.forward(geom, hip0, knee0))
+        assert foot[0] == pytest.approx(0.0, abs=1e-6)
+        assert -foot[1] == pytest.approx(O.BUILD_DEPTH, abs=1e-6)
+    offsets = O.build_offsets().reshape(4, 3)
+    assert offsets[0, 2] == offsets[1, 2] and offsets[2, 2] == offsets[3, 2]
+    assert offsets[2, 2] < offsets[0, 2]  # the longer hind leg stands with a bent knee
     trunk = np.asarray(state.pos[0])
     for toe, hip in zip(toes, O.HIPS):
         assert toe[0] == pytest.approx(trunk[0] + hip[0], abs=1e-6)

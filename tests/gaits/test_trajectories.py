@@ -9,13 +9,16 @@ from thesis.gaits import leg as L
 from thesis.gaits import trajectories as T
 
 G = L.oncilla_geometry()
-SIDES = jnp.asarray(L.SIDES)
+H = L.oncilla_hind_geometry()
+LEG_GEOMS = L.leg_geometries()
 
 
 def _fk_all(q12):
-    """(..., 12) joint commands -> (..., 4, 3) foot positions in the hip frames."""
+    """(..., 12) joint commands -> (..., 4, 3) foot positions in the hip frames, each leg
+    through its own geometry."""
     q = q12.reshape(q12.shape[:-1] + (4, 3))
-    return L.forward3d(G, q[..., 0], q[..., 1], q[..., 2], SIDES)
+    return jnp.stack([L.forward3d(g, q[..., i, 0], q[..., i, 1], q[..., i, 2], L.SIDES[i])
+                      for i, g in enumerate(LEG_GEOMS)], axis=-2)
 
 
 @pytest.fixture(scope="module")
@@ -67,8 +70,11 @@ def test_commands_finite_periodic_and_jittable(fams, name):
     np.testing.assert_array_equal(np.asarray(c0), np.asarray(run(jnp.asarray(p), t)))
     # joint limits respected
     q = np.asarray(c0).reshape(-1, 4, 3)
-    assert np.all(q[..., 1] >= G.hip_min - 1e-6) and np.all(q[..., 1] <= G.hip_max + 1e-6)
-    assert np.all(q[..., 2] >= G.knee_min - 1e-6) and np.all(q[..., 2] <= G.knee_max + 1e-6)
+    for legs, g in ((slice(0, 2), G), (slice(2, 4), H)):
+        assert np.all(q[:, legs, 1] >= g.hip_min - 1e-6)
+        assert np.all(q[:, legs, 1] <= g.hip_max + 1e-6)
+        assert np.all(q[:, legs, 2] >= g.knee_min - 1e-6)
+        assert np.all(q[:, legs, 2] <= g.knee_max + 1e-6)
     # vmap over a batch of particles (one generation in one call)
     P = np.stack([p, fam.project(fam.lower + 0.3 * (fam.upper - fam.lower))])
     cb = jax.jit(jax.vmap(fam.commands, in_axes=(0, None)))(jnp.asarray(P), 0.37)
@@ -174,12 +180,12 @@ def test_project_keeps_A_and_B_reachable(fams):
         assert np.all(P >= fam.lower - 1e-9) and np.all(P <= fam.upper + 1e-9)
         x0, a = P[:, fam.index("x0")], P[:, fam.index("a")]
         assert np.all(a <= fam.table.a_max(x0) + 1e-9)
-        pts = []
-        for yname in ("y0_fore", "y0_hind"):
+        assert np.all(a <= fam.hind_table.a_max(x0) + 1e-9)
+        for yname, geom in (("y0_fore", G), ("y0_hind", H)):
             y0 = P[:, fam.index(yname)]
-            pts += [np.stack([y0 + a, -x0], -1), np.stack([y0 - a, -x0], -1)]
-        mask = L.reachable(G, np.concatenate(pts) * 1e-3, tol=2e-5)
-        assert bool(jnp.all(mask))
+            pts = [np.stack([y0 + a, -x0], -1), np.stack([y0 - a, -x0], -1)]
+            mask = L.reachable(geom, np.concatenate(pts) * 1e-3, tol=2e-5)
+            assert bool(jnp.all(mask)), yname
         np.testing.assert_allclose(fam.project(P), P)  # idempotent
     # a_max follows the reach circle: a_max(x0) = sqrt(R² - x0²)
     sp = fams["spline"]
@@ -243,4 +249,30 @@ def test_walk_phasing_shifts_each_leg(cls):
                                   explicit.commands_at_phase(p, 0.3))
     assert len(set(T.WALK_PHASE)) == 4  # every leg its own phase
     np.testing.assert_allclose(T.leg_phases(0.3, T.WALK_PHASE), [0.55, 0.05, 0.3, 0.8],
+                               atol=1e-6)
+
+
+def test_hind_offsets_of_tab_4_2_kept_fore_clipped(fams):
+    """Tab. 4.2's flat optimum (x0 137 mm, a 95.3 mm, y0_hind -16.39 mm) puts the hind
+    foot's B 181 mm from the hip: the hind legs reach it, so the projection keeps the
+    offset; a fore leg could not (its offset range at that a is ~0)."""
+    sp = fams["spline"]
+    p = _params(sp, x0=137.0, a=95.3, y0_fore=0.0, y0_hind=-16.39)
+    q = sp.project(p)
+    assert q[sp.index("a")] == pytest.approx(95.3, abs=0.05)
+    assert q[sp.index("y0_hind")] == pytest.approx(-16.39, abs=1e-9)
+    lo, hi = sp.table.y0_range(137.0, 95.3)
+    assert hi - lo < 0.5  # the fore pair is on its reach circle: y0_fore pinned near 0
+    p2 = _params(sp, x0=137.0, a=95.3, y0_fore=-16.39, y0_hind=0.0)
+    assert sp.project(p2)[sp.index("y0_fore")] > -0.25
+
+
+def test_sine_gait_clips_each_pair_to_its_knee_range(fams):
+    sine = fams["sine"]
+    p = 0.5 * (sine.lower + sine.upper)
+    for side in ("fore", "hind"):
+        p[sine.index(f"knee_amp_{side}")] = 0.0
+        p[sine.index(f"knee_offset_{side}")] = -10.0  # below every knee stop
+    q = np.asarray(sine.commands_at_phase(jnp.asarray(p), 0.1)).reshape(4, 3)
+    np.testing.assert_allclose(q[:, 2], [G.knee_min, G.knee_min, H.knee_min, H.knee_min],
                                atol=1e-6)

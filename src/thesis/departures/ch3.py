@@ -30,9 +30,12 @@ DEPARTURES: tuple[Departure, ...] = (
              "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
              "segment lengths, knee spring, hip and knee drive stiffness, foot friction, "
              "time step and solver sweeps are assumed, each with its reason in "
-             "thesis.physics.models.oncilla (time step and sweeps in ch3.model). Not "
-             "modelled: the hind legs' longer reach and the foot plates (all legs share the "
-             "fore legs' geometry; point toes).",
+             "thesis.physics.models.oncilla (time step and sweeps in ch3.model). The hind "
+             "legs are the fore legs scaled to a 182 mm reach (the hind feet of Tab. "
+             "4.2-4.4's optima reach 181.9 mm from the hip) with 2200/1850 of their knee "
+             "range (the robot backend's knee motor counts): the scaling and reading counts "
+             "as angle are choices (leg_geometry.oncilla_hind_geometry). Not modelled: the "
+             "foot plates (point toes).",
         why="The thesis and public sources give only part of the robot (FACTS §5, "
             "ONCILLA.md); nothing is fitted to a result of the thesis.",
         config=("ch3.model.dt", "ch3.model.solver_iterations"),

@@ -26,7 +26,9 @@ DEPARTURES: tuple[Departure, ...] = (
              "placement, scapula servos and mass from the official simulation and the "
              "Oncilla paper; trunk shell, motor masses, spring rates, drive stiffness and "
              "friction are assumptions documented in that module (no public values exist "
-             "for them); the hind legs share the fore legs' reach and the feet are points.",
+             "for them); the hind legs are the fore legs scaled to a 182 mm reach with more "
+             "knee range (a choice from Tab. 4.2-4.4's hind feet and the backend's motor "
+             "counts, ch3.oncilla_model), and the feet are points.",
         why="The hardware is out of reach; absolute speeds differ from the robot's, so the "
             "claims compare transfer against no transfer, not speeds against the thesis's.",
     ),

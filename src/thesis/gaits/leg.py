@@ -45,12 +45,16 @@ from thesis.physics.models.leg_geometry import (  # noqa: F401  (public names of
     IS_FORE,
     JOINTS,
     LEGS,
+    KNEE_RANGE_HIND_RATIO,
     R_MAX,
+    R_MAX_HIND,
     R_MIN,
     SIDES,
     LegGeometry,
     knee_angle_for_reach,
+    leg_geometries,
     oncilla_geometry,
+    oncilla_hind_geometry,
 )
 
 
@@ -197,6 +201,33 @@ def inverse3d(geom: LegGeometry, foot_xyz, side, **kw) -> jnp.ndarray:
     q = inverse(geom, jnp.stack([p[..., 0], -depth], axis=-1), **kw)
     scap = jnp.broadcast_to(scap, q.shape[:-1])
     return jnp.concatenate([scap[..., None], q], axis=-1)
+
+
+def inverse_legs(legs, foot_xyz, **kw) -> jnp.ndarray:
+    """Inverse kinematics of the four legs, each with its own geometry.
+
+    Legs that share one geometry object (the Oncilla's fore pair and its hind pair,
+    :func:`~thesis.physics.models.leg_geometry.leg_geometries`) are solved in one
+    :func:`inverse3d` call.
+
+    Args:
+        legs: 4 :class:`LegGeometry` in LEGS order.
+        foot_xyz: (..., 4, 3) target foot positions, each in its leg's hip frame [m].
+
+    Returns:
+        (..., 4, 3) joint angles (scapula, hip, knee) [rad] per leg, LEGS order.
+    """
+    p = jnp.asarray(foot_xyz)
+    groups: dict[int, list[int]] = {}
+    for i, g in enumerate(legs):
+        groups.setdefault(id(g), []).append(i)
+    out = [None] * len(legs)
+    for idx in groups.values():
+        q = inverse3d(legs[idx[0]], p[..., idx, :],
+                      jnp.asarray([SIDES[i] for i in idx], p.dtype), **kw)
+        for j, i in enumerate(idx):
+            out[i] = q[..., j, :]
+    return jnp.stack(out, axis=-2)
 
 
 def inverse_closed_form(geom: LegGeometry, foot_xz) -> jnp.ndarray:

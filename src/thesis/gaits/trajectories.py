@@ -77,7 +77,8 @@ def leg_phases(phase, offsets=TROT_PHASE) -> jnp.ndarray:
 
 
 class ReachTable:
-    """Horizontal extent of the reachable area vs depth, tabulated for fast projection.
+    """Horizontal extent of one leg's reachable area vs depth, tabulated for fast
+    projection.
 
     ``extent(x0)`` -> (x_min, x_max) [mm] at depth x0 [mm]; from these, a_max(x0) =
     (x_max - x_min)/2 and y0 ∈ [x_min + a, x_max - a] keep A = (y0 + a, x0) and
@@ -111,15 +112,28 @@ def _bezier(p0, p1, p2, p3, u):
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class _LociGait:
-    """Shared machinery of the foot-locus families (ellipse, spline)."""
+    """Shared machinery of the foot-locus families (ellipse, spline).
+
+    ``geom`` is the fore legs' geometry, ``hind_geom`` the hind legs'
+    (:func:`thesis.gaits.leg.oncilla_hind_geometry`: longer, so their reachable area is
+    larger). The stride a is common to all legs, so a_max(x0) is the smaller of the two
+    (the fore legs'); each pair's offset y0 is bounded by its own legs' area.
+    """
 
     geom: L.LegGeometry = dataclasses.field(default_factory=L.oncilla_geometry)
     #: (4,) phase offset of each leg [cycles], LEGS order: the trot by default (chapters 3
     #: and 4), ``WALK_PHASE`` for the walk teacher of chapter 6.
     phase_offsets: tuple = TROT_PHASE
+    hind_geom: L.LegGeometry = dataclasses.field(default_factory=L.oncilla_hind_geometry)
 
     def __post_init__(self):
         object.__setattr__(self, "table", ReachTable(self.geom))
+        object.__setattr__(self, "hind_table", ReachTable(self.hind_geom))
+        object.__setattr__(self, "legs", L.leg_geometries(self.geom, self.hind_geom))
+
+    def a_max(self, x0):
+        """Largest semi-axis a [mm] at depth x0 [mm] that every leg's A and B can reach."""
+        return np.minimum(self.table.a_max(x0), self.hind_table.a_max(x0))
 
     # subclasses define: names, units, _i (index dict), lower/upper, _locus
     def index(self, name: str) -> int:
@@ -132,25 +146,32 @@ class _LociGait:
         return jnp.asarray(params)[..., self.index("duty")]
 
     def _box(self, extra_lo: dict, extra_hi: dict):
-        lo_ext, hi_ext = self.table.extent(X0_RANGE[0])
-        lo = {"x0": X0_RANGE[0], "a": 0.0, "y0_fore": lo_ext, "y0_hind": lo_ext, **extra_lo}
-        hi = {"x0": X0_RANGE[1], "a": float(self.table.a_max(X0_RANGE[0])),
-              "y0_fore": hi_ext, "y0_hind": hi_ext, **extra_hi}
+        lo_f, hi_f = self.table.extent(X0_RANGE[0])
+        lo_h, hi_h = self.hind_table.extent(X0_RANGE[0])
+        lo = {"x0": X0_RANGE[0], "a": 0.0, "y0_fore": lo_f, "y0_hind": lo_h, **extra_lo}
+        hi = {"x0": X0_RANGE[1], "a": float(self.a_max(X0_RANGE[0])),
+              "y0_fore": hi_f, "y0_hind": hi_h, **extra_hi}
         return (np.array([lo[n] for n in self.names], dtype=np.float64),
                 np.array([hi[n] for n in self.names], dtype=np.float64))
 
     def project(self, params) -> np.ndarray:
-        """Clip to the box, then a into [0, a_max(x0)] and y0 into [y_min, y_max]
-        (the dependent ranges of Tab. 4.1, §3.3.1.2). Shape (..., P) -> (..., P)."""
+        """Clip to the box, then a into [0, a_max(x0)] and each pair's y0 into its legs'
+        [y_min, y_max] (the dependent ranges of Tab. 4.1, §3.3.1.2). Shape (..., P) ->
+        (..., P)."""
         p = np.clip(np.array(params, dtype=np.float64), self.lower, self.upper)
         ix0, ia = self.index("x0"), self.index("a")
         x0 = p[..., ix0]
-        p[..., ia] = np.clip(p[..., ia], 0.0, self.table.a_max(x0))
-        ylo, yhi = self.table.y0_range(x0, p[..., ia])
-        for n in ("y0_fore", "y0_hind"):
+        p[..., ia] = np.clip(p[..., ia], 0.0, self.a_max(x0))
+        for n, table in (("y0_fore", self.table), ("y0_hind", self.hind_table)):
+            ylo, yhi = table.y0_range(x0, p[..., ia])
             i = self.index(n)
             p[..., i] = np.clip(p[..., i], ylo, np.maximum(yhi, ylo))
         return p
+
+    def inverse(self, targets) -> jnp.ndarray:
+        """(..., 4, 3) joint angles [rad] for (..., 4, 3) hip-frame foot targets [m], each
+        leg through its own geometry (:func:`thesis.gaits.leg.inverse_legs`)."""
+        return L.inverse_legs(self.legs, targets)
 
     def foot_targets(self, params, phase, yaw=None) -> jnp.ndarray:
         """(4, 3) foot targets in each hip frame [m] at gait phase ``phase`` [cycles].
@@ -171,8 +192,7 @@ class _LociGait:
     def commands_at_phase(self, params, phase, yaw=None) -> jnp.ndarray:
         """(12,) joint commands [rad] at gait phase ``phase`` [cycles] (via IK)."""
         targets = self.foot_targets(params, phase, yaw)
-        q = L.inverse3d(self.geom, targets, jnp.asarray(L.SIDES, dtype=targets.dtype))
-        return q.reshape(12)
+        return self.inverse(targets).reshape(12)
 
     def commands(self, params, t, yaw=None) -> jnp.ndarray:
         """(12,) joint commands [rad] at time ``t`` [s] (phase = f t)."""
@@ -283,10 +303,12 @@ class SineGait:
 
     The thesis tuned this gait by hand and gives no ranges; ours: f ∈ [0.5, 2.5] Hz
     (covers the frequencies of Fig. 3.4), amplitudes up to half the joint range, phases
-    in [0, 2π], offsets inside the joint limits; commands are clipped to the limits.
+    in [0, 2π], offsets inside the joint limits; commands are clipped to the limits
+    (the fore legs' ``geom`` and the hind legs' ``hind_geom``, each for its pair).
     """
 
     geom: L.LegGeometry = dataclasses.field(default_factory=L.oncilla_geometry)
+    hind_geom: L.LegGeometry = dataclasses.field(default_factory=L.oncilla_hind_geometry)
 
     names = ("f", "hip_amp_fore", "hip_phase_fore", "hip_offset_fore", "knee_amp_fore",
              "knee_phase_fore", "knee_offset_fore", "hip_amp_hind", "hip_phase_hind",
@@ -294,13 +316,14 @@ class SineGait:
     units = ("Hz",) + ("rad",) * 12
 
     def __post_init__(self):
-        g = self.geom
-        hr = 0.5 * (float(g.hip_max) - float(g.hip_min))
-        kr = 0.5 * (float(g.knee_max) - float(g.knee_min))
-        pair_lo = [0.0, 0.0, float(g.hip_min), 0.0, 0.0, float(g.knee_min)]
-        pair_hi = [hr, 2 * math.pi, float(g.hip_max), kr, 2 * math.pi, float(g.knee_max)]
-        object.__setattr__(self, "lower", np.array([0.5] + pair_lo * 2))
-        object.__setattr__(self, "upper", np.array([2.5] + pair_hi * 2))
+        lo, hi = [0.5], [2.5]
+        for g in (self.geom, self.hind_geom):
+            hr = 0.5 * (float(g.hip_max) - float(g.hip_min))
+            kr = 0.5 * (float(g.knee_max) - float(g.knee_min))
+            lo += [0.0, 0.0, float(g.hip_min), 0.0, 0.0, float(g.knee_min)]
+            hi += [hr, 2 * math.pi, float(g.hip_max), kr, 2 * math.pi, float(g.knee_max)]
+        object.__setattr__(self, "lower", np.array(lo))
+        object.__setattr__(self, "upper", np.array(hi))
 
     def index(self, name: str) -> int:
         return self.names.index(name)
@@ -318,11 +341,12 @@ class SineGait:
         s = leg_phases(phase)  # (4,)
         fore = jnp.asarray(L.IS_FORE)
         pick = lambda i: jnp.where(fore, p[1 + i], p[7 + i])  # noqa: E731
-        g = self.geom
+        f, h = self.geom, self.hind_geom
+        lim = lambda name: jnp.where(fore, getattr(f, name), getattr(h, name))  # noqa: E731
         hip = pick(2) + pick(0) * jnp.sin(2 * jnp.pi * s + pick(1))
         knee = pick(5) + pick(3) * jnp.sin(2 * jnp.pi * s + pick(4))
-        hip = jnp.clip(hip, g.hip_min, g.hip_max)
-        knee = jnp.clip(knee, g.knee_min, g.knee_max)
+        hip = jnp.clip(hip, lim("hip_min"), lim("hip_max"))
+        knee = jnp.clip(knee, lim("knee_min"), lim("knee_max"))
         scap = jnp.zeros_like(hip)
         return jnp.stack([scap, hip, knee], axis=-1).reshape(12)
 

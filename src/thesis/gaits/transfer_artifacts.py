@@ -348,14 +348,14 @@ def fig4_9(ctx) -> xr.Dataset:
     ds = xr.Dataset(
         dict(a=(dims, a, dict(units="mm", long_name="step length a")),
              x0=(dims, x0, dict(units="mm", long_name="depth x0 of the locus below the hip")),
-             a_fraction=(dims, a / FAMILY.table.a_max(x0), dict(
+             a_fraction=(dims, a / FAMILY.a_max(x0), dict(
                  units="1", long_name="a / a_max(x0): step length relative to the longest "
                                       "reachable one")),
              x0_fraction=(dims, (x0 - lo) / (hi - lo), dict(
                  units="1", long_name="x0 within its range (0: highest, 1: deepest)")),
              score=(dims, sub["score"].transpose(*dims).values, dict(
                  units="m s-1", long_name="§4.6 score")),
-             a_max=(("x0_edge",), FAMILY.table.a_max(grid), dict(
+             a_max=(("x0_edge",), FAMILY.a_max(grid), dict(
                  units="mm", long_name="a_max(x0), the edge of the search space"))),
         coords=dict(seed=[int(s) for s in sub["seed"].values], transfer=[0, 1],
                     generation=sub["generation"].values, particle=sub["particle"].values,
@@ -400,11 +400,10 @@ def foot_loci(params, samples: int) -> np.ndarray:
     q = jax.vmap(lambda ph: FAMILY.commands_at_phase(jnp.asarray(params, jnp.float32), ph))(
         phases)
     q = np.asarray(q).reshape(samples, 4, 3)
-    geom = FAMILY.geom
     out = []
     for leg in ("LF", "LH"):
         j = L.LEGS.index(leg)
-        xz = np.asarray(L.forward(geom, q[:, j, 1], q[:, j, 2]))
+        xz = np.asarray(L.forward(FAMILY.legs[j], q[:, j, 1], q[:, j, 2]))
         out.append(np.stack([xz[:, 0] * 1e3, -xz[:, 1] * 1e3], axis=-1))
     return np.stack(out)
 

@@ -89,8 +89,7 @@ def turning_command_fn(family: T.EllipseGait, settle: float, t_transition: float
         f = params[family.index("f"), 0]
         phase = f * jnp.maximum(t - settle, 0.0)
         targets = family.foot_targets(params, phase, w * mem["yaw"])
-        q = L.inverse3d(family.geom, targets, jnp.asarray(L.SIDES, targets.dtype))
-        return q.reshape(12)
+        return family.inverse(targets).reshape(12)
 
     return fn
 
@@ -131,7 +130,6 @@ def tracking_command_fn(family: T.EllipseGait, settle: float,
         f = mem["params"][family.index("f")]
         phase = f * jnp.maximum(t - settle, 0.0)
         targets = family.foot_targets(p, phase, yaw)
-        q = L.inverse3d(family.geom, targets, jnp.asarray(L.SIDES, targets.dtype))
-        return q.reshape(12)
+        return family.inverse(targets).reshape(12)
 
     return fn

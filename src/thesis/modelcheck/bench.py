@@ -125,7 +125,7 @@ def oncilla(ctx) -> xr.Dataset:
     down_t = np.where(terms["fallen"], terms["upright"] * g["t"][-1], np.nan)
     gp = runs["p"][ix["gaits"]]
     values = dict(a=gp[:, fam.index("a")], x0=gp[:, fam.index("x0")], f=gp[:, fam.index("f")])
-    values["a_fraction"] = values["a"] / np.maximum(fam.table.a_max(values["x0"]), 1e-9)
+    values["a_fraction"] = values["a"] / np.maximum(fam.a_max(values["x0"]), 1e-9)
     bins = {n: M.fall_rate_bins(values[n], terms["fallen"], _edges(n, cfg["bins"]))
             for n in BINNED}
     # pushes

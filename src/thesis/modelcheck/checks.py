@@ -136,12 +136,15 @@ def sample_gaits(rng: np.random.Generator, n: int, family=FAMILY) -> np.ndarray:
     state, a uniform in [0, a_max(x0)] and y0 (fore and hind each) uniform in
     [y_min, y_max] of (x0, a). (The PSO's random swarm of ch4 draws a in the loosest box
     and clips it to a_max(x0), which puts a share of the particles on the a_max edge.)
+    Both offsets are drawn in the fore legs' range, which the longer hind legs' range
+    contains, so that models with and without the longer hind legs are measured on the
+    same gaits.
     """
     u = rng.uniform(size=(int(n), len(family.names)))
     lo, hi = family.lower, family.upper
     p = lo + u * (hi - lo)
     ix0, ia = family.index("x0"), family.index("a")
-    p[:, ia] = u[:, ia] * family.table.a_max(p[:, ix0])
+    p[:, ia] = u[:, ia] * family.a_max(p[:, ix0])
     ylo, yhi = family.table.y0_range(p[:, ix0], p[:, ia])
     for name in ("y0_fore", "y0_hind"):
         i = family.index(name)
@@ -155,7 +158,7 @@ def nominal_gait(family=FAMILY) -> np.ndarray:
     y0 the middle of its range."""
     p = 0.5 * (family.lower + family.upper)
     ix0, ia = family.index("x0"), family.index("a")
-    p[ia] = 0.5 * float(family.table.a_max(p[ix0]))
+    p[ia] = 0.5 * float(family.a_max(p[ix0]))
     ylo, yhi = family.table.y0_range(p[ix0], p[ia])
     for name in ("y0_fore", "y0_hind"):
         p[family.index(name)] = 0.5 * (float(ylo) + float(yhi))

@@ -1,5 +1,6 @@
-"""Geometry of the Oncilla's three-segment pantographic leg (§3.2.1, §3.3.1.2, §4.5):
-segment lengths, joint limits and the leg and joint order.
+"""Geometry of the Oncilla's three-segment pantographic legs (§3.2.1, §3.3.1.2, §4.5):
+segment lengths, joint limits and the leg and joint order; the fore legs
+(:func:`oncilla_geometry`) and the longer hind legs (:func:`oncilla_hind_geometry`).
 
 The engine's Oncilla model (:mod:`thesis.physics.models.oncilla`) is built from this
 geometry, and the gait code's kinematics (:mod:`thesis.gaits.leg`, which re-exports
@@ -15,8 +16,9 @@ import math
 import jax
 import jax.numpy as jnp
 
-__all__ = ["LEGS", "JOINTS", "SIDES", "IS_FORE", "R_MAX", "R_MIN", "LegGeometry",
-           "knee_angle_for_reach", "oncilla_geometry"]
+__all__ = ["LEGS", "JOINTS", "SIDES", "IS_FORE", "R_MAX", "R_MIN", "R_MAX_HIND",
+           "KNEE_RANGE_HIND_RATIO", "LegGeometry", "knee_angle_for_reach", "leg_geometries",
+           "oncilla_geometry", "oncilla_hind_geometry"]
 
 #: Leg order of every 12-vector of joint commands.
 LEGS = ("LF", "RF", "LH", "RH")
@@ -32,6 +34,11 @@ IS_FORE = (True, True, False, False)
 R_MAX = 0.167
 #: Minimal hip-foot distance [m] at full knee flexion.
 R_MIN = 0.100
+#: Maximal hip-foot distance of a hind leg [m] (see :func:`oncilla_hind_geometry`).
+R_MAX_HIND = 0.182
+#: Knee motor range of a hind leg over a fore leg's: 2200 / 1850 encoder counts
+#: (ONCILLA.md HW, ``HWOncillaBackend.h``).
+KNEE_RANGE_HIND_RATIO = 2200.0 / 1850.0
 
 
 def _deg(x: float) -> float:
@@ -40,7 +47,8 @@ def _deg(x: float) -> float:
 
 @dataclasses.dataclass(frozen=True)
 class LegGeometry:
-    """Geometry and joint limits of one Oncilla leg (all legs identical).
+    """Geometry and joint limits of one Oncilla leg (the fore legs share one, the hind
+    legs another: :func:`leg_geometries`).
 
     Attributes:
         femur: proximal segment, hip→knee [m].
@@ -129,3 +137,45 @@ def oncilla_geometry() -> LegGeometry:
         knee_min=knee_min, knee_max=knee_max, scapula_min=_deg(-5.0),
         scapula_max=_deg(10.0), knee_spring_rest=knee_max,
     )
+
+
+def oncilla_hind_geometry() -> LegGeometry:
+    """The Oncilla's hind leg: longer, with more knee range than the fore leg.
+
+    Sources and choices (ONCILLA.md; declared in ``departures/ch3.py``, ``ch3.oncilla_model``):
+
+    * **Longer reach, R_MAX_HIND = 182 mm.** The thesis's optimised particles (Tab.
+      4.2-4.4) all lie on the fore legs' 167 mm reach circle (a² + x0² = 166.8-166.9²
+      mm², y0_fore = 0), and their hind offsets y0_hind of -5 to -24 mm put the hind foot's
+      back point B = (y0_hind - a, x0) 168.7 to 181.9 mm from the hip, which the real
+      robot's hind legs reached (Tab. 4.1 keeps A and B of every leg inside its reachable
+      region). 182 mm is the farthest of them, rounded up. The segments are the fore
+      leg's scaled by R_MAX_HIND / R_MAX (1.09: femur 70.8, tibia 76.3, foot 43.6 mm), so
+      the extension stop sits at the same inner knee angle (≈145°). No source gives the
+      hind segments' lengths; uniform scaling is the choice.
+    * **More knee range, x 2200 / 1850.** The robot's backend gives the hind knee motors
+      2200 encoder counts of range against 1850 for the fore ones (ONCILLA.md HW, marked
+      "todo CHECK" there). Read as proportional to the knee angle (an assumption: the
+      counts are the motor's, the knee is cable-driven), the hind knee's range is the
+      fore range x 1.19; the extra range is put on the flexion side (the extension stop
+      already gives the reach above), so the hind leg folds to ≈90 mm from the hip.
+    * Hip range and scapula range as the fore leg's (the backend gives one hip range,
+      the thesis one scapula range).
+    """
+    fore = oncilla_geometry()
+    k = R_MAX_HIND / R_MAX
+    femur, tibia, foot = fore.femur * k, fore.tibia * k, fore.foot * k
+    knee_max = knee_angle_for_reach(femur, tibia, foot, R_MAX_HIND)
+    knee_min = knee_max - KNEE_RANGE_HIND_RATIO * (fore.knee_max - fore.knee_min)
+    return fore.replace(femur=femur, tibia=tibia, foot=foot, knee_min=knee_min,
+                        knee_max=knee_max, knee_spring_rest=knee_max)
+
+
+def leg_geometries(fore: LegGeometry | None = None,
+                   hind: LegGeometry | None = None) -> tuple[LegGeometry, ...]:
+    """The four legs' geometries in LEGS order (LF, RF, LH, RH): ``fore`` for the fore
+    legs and ``hind`` for the hind ones (defaults :func:`oncilla_geometry` and
+    :func:`oncilla_hind_geometry`)."""
+    fore = fore or oncilla_geometry()
+    hind = hind or oncilla_hind_geometry()
+    return tuple(fore if f else hind for f in IS_FORE)

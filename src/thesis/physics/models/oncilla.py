@@ -29,12 +29,18 @@ its reason; nothing is fitted to a result of the thesis):
   hips, 7 cm tall as before (no source gives the shell). The hips sit 0.02 m below the
   trunk's centre. The 0.35 m hip spacing is about twice the
   longest stride of Tab. 3.1 (2a = 182 mm), so fore and hind feet never collide.
-* **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (femur 65 mm, tibia
-  70 mm, foot 40 mm, foot segment kept parallel to the femur), joint ranges from
-  :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65] deg, knee
-  from the 100-167 mm reach, scapula -5..+10 deg = "about 5 deg of adduction and 10 deg
-  of abduction",
-  §3.3.2.5). Bodies per leg: femur, knee drum, tibia, foot. The pantograph's parallel
+* **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (foot segment kept
+  parallel to the femur). Fore legs femur 65 mm, tibia 70 mm, foot 40 mm with the joint
+  ranges of :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65]
+  deg, knee from the 100-167 mm reach, scapula -5..+10 deg = "about 5 deg of adduction
+  and 10 deg of abduction", §3.3.2.5). Hind legs longer, with more knee range
+  (:func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`: the fore segments
+  x 1.09 for a 182 mm reach, the hind foot of Tab. 4.2-4.4's optima reaching 181.9 mm
+  from the hip; the knee range x 2200 / 1850, the hind/fore knee motor counts of
+  ONCILLA.md HW). Every leg stands with its toe ``BUILD_DEPTH`` below its hip, so the
+  trunk is level at build whatever the legs' lengths. The segment masses are the same
+  for all legs (a choice: no source gives them). Bodies per leg: femur, knee drum,
+  tibia, foot. The pantograph's parallel
   link (hip -> upper end of the foot segment, length = tibia) is massless and modelled
   as a stiff spring (``link_stiffness``) between the femur's hip point and the foot
   segment, which closes the parallelogram without a loop joint.
@@ -83,10 +89,8 @@ its reason; nothing is fitted to a result of the thesis):
   (§3.2.2), held in between; the physics step ``dt`` is 2.5 ms (four steps per command):
   at 5 ms some gaits (fast leg swings from the settle pose) made the engine diverge to
   NaN within 0.1 s, at 2.5 ms the same gaits walk.
-* **Not revised** (the sources give them, the model does not have them yet): the hind
-  legs' longer reach and knee range (ONCILLA.md HW, Tab. 4.2's hind foot ~177 mm from the
-  hip; all four legs here share the fore legs' 167 mm reach circle) and the foot plates
-  (here one toe sphere per foot).
+* **Not revised** (the source gives them, the model does not have them yet): the foot
+  plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
   0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
   lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
@@ -159,7 +163,8 @@ def _roty(phi):
 
 
 def build_pose(geom: L.LegGeometry | None = None, depth: float = BUILD_DEPTH):
-    """(hip, knee) [rad] of the build pose: toe straight below the hip at ``depth`` [m]."""
+    """(hip, knee) [rad] of the build pose of a leg of geometry ``geom`` (default: a fore
+    leg): toe straight below the hip at ``depth`` [m]."""
     geom = geom or L.oncilla_geometry()
     a, b = float(geom.femur) + float(geom.foot), float(geom.tibia)
     # law of cosines on the two-link equivalent (numpy: safe inside traced code)
@@ -187,7 +192,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             scapula_velocity=10.0, knee_spring=10.0, knee_preload=0.02, knee_damping=0.05,
             link_stiffness=2e4, link_damping=20.0, friction=0.8, restitution=0.0,
             drum_size=0.2, field=None,
-            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None, dtype=jnp.float32,
+            camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None,
+            hind_geom: L.LegGeometry | None = None, dtype=jnp.float32,
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
@@ -226,10 +232,12 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             bumpers too, which touch the ground only when the robot has fallen; with K = 2
             that is 16 field contacts instead of 8, and the cell grows to the bumpers'
             reach) or contact-sphere indices. Without it the floor is the plain plane.
+        geom, hind_geom: the fore and the hind legs' geometry (defaults
+            :func:`~thesis.physics.models.leg_geometry.oncilla_geometry` and
+            :func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`).
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
-    geom = geom or L.oncilla_geometry()
-    hip0, knee0 = build_pose(geom)
+    legs = L.leg_geometries(geom, hind_geom)
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation,
                 restitution=restitution, contact_slop=0.001)
@@ -244,9 +252,10 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
     lx, ly, lz = (t / 2 for t in TRUNK)
     for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
         b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
-    femur, tibia, foot = geom.femur, geom.tibia, geom.foot
     toes = []
-    for leg, side, (hx, hy, hz) in zip(L.LEGS, L.SIDES, HIPS):
+    for leg, side, (hx, hy, hz), geom in zip(L.LEGS, L.SIDES, HIPS, legs):
+        femur, tibia, foot = geom.femur, geom.tibia, geom.foot
+        hip0, knee0 = build_pose(geom)
         hip = np.array([hx, hy, z_trunk + hz])
         knee = hip + femur * _u(hip0)
         t_dir = _u(hip0 + knee0 - math.pi)
@@ -315,15 +324,20 @@ def toe_spheres() -> tuple:
     return (4, 5, 6, 7)
 
 
-def build_offsets(geom: L.LegGeometry | None = None) -> np.ndarray:
-    """(12,) thesis joint angles [rad] of the build pose (scapula 0, hip0, knee0 per leg)."""
-    hip0, knee0 = build_pose(geom)
-    return np.tile(np.array([0.0, hip0, knee0]), 4)
+def build_offsets(geom: L.LegGeometry | None = None,
+                  hind_geom: L.LegGeometry | None = None) -> np.ndarray:
+    """(12,) thesis joint angles [rad] of the build pose (scapula 0, hip0, knee0 per leg,
+    each leg's from its geometry: fore ``geom``, hind ``hind_geom``, defaults as
+    :func:`oncilla`)."""
+    return np.concatenate([np.array([0.0, *build_pose(g)])
+                           for g in L.leg_geometries(geom, hind_geom)])
 
 
-def commands_to_action(commands, geom: L.LegGeometry | None = None):
+def commands_to_action(commands, geom: L.LegGeometry | None = None,
+                       hind_geom: L.LegGeometry | None = None):
     """Servo targets (12,) [rad, engine angles] for thesis joint commands (..., 12) [rad]."""
-    return jnp.asarray(commands) - jnp.asarray(build_offsets(geom), jnp.asarray(commands).dtype)
+    c = jnp.asarray(commands)
+    return c - jnp.asarray(build_offsets(geom, hind_geom), c.dtype)
 
 
 def trunk_index(model) -> int:
