@@ -146,13 +146,15 @@ def _cmd_check(args) -> int:
     results = store.load_results(args.profile, args.results)
     # the perturbed twin runs of some chapters, where they were made (thesis --perturb)
     twins = store.load_results(store.results_name(args.profile, perturbed=True), args.results)
-    verdicts = evaluate_all(results, twin_runs=twins)
+    # and its native twin runs (every CPU pin lifted, snakemake --config isa=native)
+    native = store.load_results(store.results_name(args.profile, native=True), args.results)
+    verdicts = evaluate_all(results, twin_runs=twins, native_runs=native)
     out = Path(args.output or Path(args.results) / args.profile / "claims.json")
     counts: dict[str, int] = {}
     for v in verdicts:
         counts[v["reading"]] = counts.get(v["reading"], 0) + 1
     payload = {"profile": args.profile, "n_results": len(results), "readings": counts,
-               "twin_runs": sorted(twins), "claims": verdicts}
+               "twin_runs": sorted(twins), "native_runs": sorted(native), "claims": verdicts}
     with store.atomic_path(out) as tmp:
         tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     log.info("claims: %s -> %s", counts, out)

@@ -66,6 +66,35 @@ def pins(machine: str | None = None, flags: set[str] | None = None) -> dict[str,
     return out
 
 
+#: XLA's highest ``--xla_cpu_max_isa``: XLA then uses every feature the host has.
+XLA_NO_CAP = "--xla_cpu_max_isa=AMX_FP16"
+#: OpenBLAS core of the AVX-512 kernels (``OPENBLAS_CORETYPE``).
+OPENBLAS_AVX512_CORE = "SkylakeX"
+
+
+def native_env(machine: str | None = None, flags: set[str] | None = None) -> dict[str, str]:
+    """Environment of a job that computes with this host's own code paths, every pin
+    lifted: numpy's full dispatch (an empty ``NPY_DISABLE_CPU_FEATURES``, which
+    :func:`pin` leaves alone), OpenBLAS's AVX-512 kernels where the CPU has AVX-512 (its
+    AVX2 ones otherwise, as pinned), and no ISA cap on XLA (``XLA_FLAGS`` carries
+    :data:`XLA_NO_CAP`, so :func:`thesis.jaxsetup.xla_flags` adds no ``jax.max_isa``).
+
+    On an AVX-512 host such a run computes as an unpinned AVX-512 host would: the
+    pipeline's "native" twin runs (Snakemake ``--config isa=native``), beside which
+    ``thesis check`` marks a verdict that moves with the instruction set. On an AVX2 host
+    it is the pinned run again. Empty off x86-64 (nothing is pinned there).
+    """
+    if not is_x86_64(machine):
+        return {}
+    flags = cpu_flags() if flags is None else flags
+    out = {"NPY_DISABLE_CPU_FEATURES": "", "XLA_FLAGS": XLA_NO_CAP}
+    if {"avx512f", "avx512bw", "avx512vl", "avx512dq"} <= flags:
+        out["OPENBLAS_CORETYPE"] = OPENBLAS_AVX512_CORE
+    elif {"avx2", "fma"} <= flags:
+        out["OPENBLAS_CORETYPE"] = OPENBLAS_AVX2_CORE
+    return out
+
+
 def in_force(environ=os.environ) -> dict[str, str]:
     """The :data:`VARIABLES` set in ``environ`` and their values."""
     return {k: environ[k] for k in VARIABLES if k in environ}

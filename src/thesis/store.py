@@ -181,13 +181,19 @@ def result_path(profile: str, key: str, root: str | Path = RESULTS_DIR) -> Path:
 
 #: Suffix of the results directory of a profile's perturbed twin runs (``thesis --perturb``).
 PERTURBED_SUFFIX = "-perturbed"
+#: Suffix of the results directory of a profile's native twin runs (every CPU pin lifted,
+#: :func:`thesis.cpupins.native_env`).
+NATIVE_SUFFIX = "-native"
 
 
-def results_name(profile: str, perturbed: bool = False) -> str:
-    """Directory name under ``results/`` of a profile's runs: ``<profile>``, or
+def results_name(profile: str, perturbed: bool = False, native: bool = False) -> str:
+    """Directory name under ``results/`` of a profile's runs: ``<profile>``,
     ``<profile>-perturbed`` for its perturbed twin runs (``thesis --perturb``,
-    :mod:`thesis.physics.perturbation`)."""
-    return profile + PERTURBED_SUFFIX if perturbed else profile
+    :mod:`thesis.physics.perturbation`) or ``<profile>-native`` for its native twin runs
+    (the host's own code paths, :func:`thesis.cpupins.native_env`)."""
+    if perturbed and native:
+        raise ValueError("a twin run is perturbed or native, not both")
+    return profile + (PERTURBED_SUFFIX if perturbed else NATIVE_SUFFIX if native else "")
 
 
 def load_results(profile: str, root: str | Path = RESULTS_DIR) -> dict[str, xr.Dataset]:

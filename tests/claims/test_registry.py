@@ -119,3 +119,9 @@ def test_a_verdict_the_perturbed_twin_runs_move_is_fragile():
     alone = {o["id"]: o for o in claims.evaluate_all(run)}
     assert "fragile" not in alone[cid] and "perturbed" not in alone[cid]
     assert "fragile" not in moved["ch3.spline_fastest"]
+    # native twin runs (every CPU pin lifted) are a second, independent view
+    both = {o["id"]: o for o in claims.evaluate_all(
+        run, twin_runs={"ch2/table2_2": table(0.08)}, native_runs={"ch2/table2_2": table(0.03)})}
+    assert both[cid]["fragile"] is False and both[cid]["isa_dependent"] is True
+    assert both[cid]["native"]["status"] != "reproduced"
+    assert "isa_dependent" not in same[cid] and "native" not in both["ch3.spline_fastest"]

@@ -56,3 +56,36 @@ def test_importing_thesis_first_pins_numpy_and_openblas():
     if {"avx2", "fma"} <= flags:
         assert out["avx2"] is True
         assert out["blas"] == ["Haswell"]
+
+
+def test_native_env_lifts_every_pin():
+    """The native twin runs' environment: numpy's full dispatch, OpenBLAS's own class of
+    kernels, no ISA cap on XLA (the jax section then adds none)."""
+    from thesis import jaxsetup
+
+    avx512 = {"avx2", "fma", "avx512f", "avx512bw", "avx512vl", "avx512dq"}
+    env = cpupins.native_env("x86_64", avx512)
+    assert env == {"NPY_DISABLE_CPU_FEATURES": "", "XLA_FLAGS": cpupins.XLA_NO_CAP,
+                   "OPENBLAS_CORETYPE": "SkylakeX"}
+    assert cpupins.native_env("x86_64", {"avx2", "fma"})["OPENBLAS_CORETYPE"] == "Haswell"
+    assert cpupins.native_env("aarch64", {"asimd"}) == {}
+    flags = jaxsetup.xla_flags({}, env["XLA_FLAGS"], machine="x86_64").split()
+    assert [f for f in flags if "max_isa" in f] == [cpupins.XLA_NO_CAP]
+    assert "--xla_cpu_max_isa=AVX2" in jaxsetup.xla_flags({}, "", machine="x86_64").split()
+
+
+@pytest.mark.skipif("avx512f" not in cpupins.cpu_flags(),
+                    reason="a native run differs from a pinned one on AVX-512 hosts only")
+def test_native_env_reaches_numpy_and_openblas():
+    env = {**{k: v for k, v in os.environ.items()
+              if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")},
+           **cpupins.native_env()}
+    code = ("import thesis, json, numpy, threadpoolctl; "
+            "f = numpy._core._multiarray_umath.__cpu_features__; "
+            "print(json.dumps({'skx': f.get('AVX512_SKX', False), "
+            "'blas': sorted({i.get('architecture') for i in threadpoolctl.threadpool_info() "
+            "if i['internal_api'] == 'openblas'})}))")
+    out = json.loads(subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                    capture_output=True, text=True).stdout)
+    assert out["skx"] is True
+    assert out["blas"] == [cpupins.native_env()["OPENBLAS_CORETYPE"]]

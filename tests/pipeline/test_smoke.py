@@ -131,6 +131,30 @@ def test_perturbed_twin_runs_plan_beside_the_profile():
     assert "perturb" in bad.stdout + bad.stderr
 
 
+def test_native_twin_runs_plan_beside_the_profile():
+    """``--config isa=native`` plans every chapter, ch6 included, into results/smoke-native/
+    with every CPU pin lifted in each job's environment (thesis.cpupins.native_env), and no
+    claims, report or timing job; it cannot be combined with a perturbation, and another
+    value is refused with the allowed ones."""
+    proc = snakemake("--config", "profile=smoke", "isa=native", "-n", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    out = proc.stdout + proc.stderr
+    assert "results/smoke-native/ch3/table3_1.nc" in out
+    assert "results/smoke-native/ch6/teacher.nc" in out
+    commands = [line for line in out.splitlines() if " -m thesis " in line]
+    assert commands and all('NPY_DISABLE_CPU_FEATURES=""' in line for line in commands)
+    assert all("--xla_cpu_max_isa=AMX_FP16" in line for line in commands)
+    assert "results/smoke/" not in out.replace("results/smoke-native/", "")
+    assert "rule claims" not in out and "reports/smoke" not in out
+    assert "ch7_table7_1" not in out and "ch2_chirpz_scaling" not in out
+    both = snakemake("--config", "profile=smoke", "isa=native", "perturb=1e-7", "-n",
+                     timeout=300)
+    assert both.returncode != 0 and "one at a time" in both.stdout + both.stderr
+    bad = snakemake("--config", "profile=smoke", "isa=avx9", "-n", timeout=300)
+    assert bad.returncode != 0
+    assert "'isa'" in bad.stdout + bad.stderr and "native" in bad.stdout + bad.stderr
+
+
 def test_bad_config_stops_before_any_job():
     proc = snakemake("--config", "profile=smoke", "root_seed=-4", "-n", timeout=300)
     assert proc.returncode != 0

@@ -116,7 +116,12 @@ def test_fragility_section_counts_twin_verdicts_per_chapter():
         {"id": "ch3.c", "chapter": 3, "status": "inconclusive"},
         {"id": "ch5.a", "chapter": 5, "status": "reproduced"},
     ]
-    page = V.fragility_html(claims, ["ch3/table3_1", "ch3/fig3_4"])
+    claims[2].update(native={"status": "reproduced"}, isa_dependent=True)
+    claims[1].update(native={"status": "reproduced"}, isa_dependent=False)
+    page = V.fragility_html(claims, ["ch3/table3_1", "ch3/fig3_4"], ["ch3/table3_1"])
     assert "2 of 3 claims decided on twins, 1 fragile: ch3.a" in page
-    assert "<td>5</td><td>no twin runs</td>" in page
-    assert "Twin runs read: 2 results (ch3)" in page
+    assert "2 of 3 claims decided on twins, 1 moved: ch3.c" in page
+    assert "<td>5</td><td>no twin runs</td><td>no twin runs</td>" in page
+    assert "Perturbed twin runs read: 2 results (ch3)" in page
+    assert "Native twin runs read: 1 results (ch3)" in page
+    assert "Native twin runs" not in V.fragility_html(claims, ["ch3/table3_1"])

@@ -7,6 +7,8 @@ from thesis.config import validate_config
 from thesis.cli import config_slice
 from thesis.provenance import code_version
 from thesis import resources as _resources
+from thesis.cpupins import native_env
+from thesis.store import results_name
 
 # A clear error naming the key and the allowed values, before any job runs.
 config.update(validate_config(config))
@@ -16,9 +18,23 @@ PROFILE = config["profile"]
 # into results/<profile>-perturbed/ (and its own data, logs and benchmarks); `thesis check`
 # decides every claim on them too and marks a verdict they move as fragile.
 PERTURB = float(config.get("perturb", 0.0))
-RUNS = f"{PROFILE}-perturbed" if PERTURB else PROFILE
-# The CLI of this environment (the interpreter running snakemake), independent of PATH.
-THESIS = f"{sys.executable} -m thesis" + (f" --perturb {PERTURB!r}" if PERTURB else "")
+# `--config isa=native`: the chapters' native twin runs, every CPU pin lifted
+# (thesis.cpupins.native_env: the host's own numpy, OpenBLAS and XLA code paths), into
+# results/<profile>-native/; `thesis check` marks a verdict they move as ISA-dependent.
+NATIVE = config.get("isa", "pinned") == "native"
+if PERTURB and NATIVE:
+    raise WorkflowError("perturb and isa=native make two different twin runs: one at a time")
+TWIN = bool(PERTURB or NATIVE)
+RUNS = results_name(PROFILE, perturbed=bool(PERTURB), native=NATIVE)
+# The CLI of this environment (the interpreter running snakemake), independent of PATH;
+# a native twin's jobs get native_env's variables (XLA's cap added to the user's flags).
+_NATIVE_ENV = native_env() if NATIVE else {}
+THESIS = (
+    "".join(f"{k}=\"{'$XLA_FLAGS ' if k == 'XLA_FLAGS' else ''}{v}\" "
+            for k, v in _NATIVE_ENV.items())
+    + f"{sys.executable} -m thesis"
+    + (f" --perturb {PERTURB!r}" if PERTURB else "")
+)
 # "coopt" is §8.2 made real (thesis.coopt): a report section like a chapter's.
 CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7", "coopt"]
 

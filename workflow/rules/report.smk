@@ -3,9 +3,12 @@
 import glob
 
 ALL_RESULTS = [f for ch in CHAPTERS for f in CHAPTER_TARGETS[ch]]
-# The perturbed twin runs made so far (`--config perturb=...`, common.smk): the claims are
-# decided on them too, and decided again when one is added or rerun.
-TWIN_RUNS = sorted(glob.glob(f"results/{PROFILE}-perturbed/*/*.nc"))
+# The perturbed and native twin runs made so far (`--config perturb=...`, `isa=native`,
+# common.smk): the claims are decided on them too, and decided again when one is added or
+# rerun.
+TWIN_RUNS = sorted(glob.glob(f"results/{PROFILE}-perturbed/*/*.nc")) + sorted(
+    glob.glob(f"results/{PROFILE}-native/*/*.nc")
+)
 REPORT_CODE = code_version(*CORE_CODE, "claims", "paper", "report")
 CHAPTER_TITLES = {
     "ch2": "Chapter 2",

@@ -95,15 +95,34 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
     return view, twinned
 
 
+def native_view(results: Mapping[str, xr.Dataset],
+                native_runs: Mapping[str, xr.Dataset] | None = None
+                ) -> tuple[dict[str, xr.Dataset], set]:
+    """(the results as native twin runs give them, the keys of the results that have
+    one): a result of ``native_runs`` (the same experiment rerun with every CPU pin lifted,
+    :func:`thesis.cpupins.native_env`, ``results/<profile>-native/``) replaces the result
+    of the same key. Deciding a claim on the view decides it as a host computing with
+    other kernels would (issue: a verdict that moves with the instruction set)."""
+    view, keys = dict(results), set()
+    for key, ds in (native_runs or {}).items():
+        if key in results:
+            view[key] = ds
+            keys.add(key)
+    return view, keys
+
+
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
-             perturbed: tuple[Mapping[str, xr.Dataset], set] | None = None
+             perturbed: tuple[Mapping[str, xr.Dataset], set] | None = None,
+             native: tuple[Mapping[str, xr.Dataset], set] | None = None
              ) -> dict[str, object]:
     """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
     units of the variables it reads (``units``), the departures of the results it rests on
     (``departures``, each with ``in_effect``) and its ``reading``
     (:func:`thesis.claims.basis.reading`). Where a result the claim requires carries
     perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
-    ``perturbed``: the verdict decided on the twins, and ``fragile`` (the two differ)."""
+    ``perturbed``: the verdict decided on the twins, and ``fragile`` (the two differ).
+    Likewise, where a required result has a native twin run (``native``, a
+    :func:`native_view`), ``native``: the verdict decided on it, and ``isa_dependent``."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     out = {
@@ -119,22 +138,29 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         twin = claim.check(view)
         out["perturbed"] = {"status": twin.status, "detail": twin.detail}
         out["fragile"] = twin.status != verdict.status
+    if native is not None and native[1] & set(claim.requires):
+        other = claim.check(native[0])
+        out["native"] = {"status": other.status, "detail": other.detail}
+        out["isa_dependent"] = other.status != verdict.status
     return out
 
 
 def evaluate_all(results: Mapping[str, xr.Dataset], *,
                  n_resamples: int | None = None,
-                 twin_runs: Mapping[str, xr.Dataset] | None = None
+                 twin_runs: Mapping[str, xr.Dataset] | None = None,
+                 native_runs: Mapping[str, xr.Dataset] | None = None
                  ) -> list[dict[str, object]]:
     """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`); ``twin_runs``:
-    the profile's perturbed twin runs, if any were made (:func:`perturbed_view`).
+    the profile's perturbed twin runs, if any were made (:func:`perturbed_view`);
+    ``native_runs``: its native twin runs, if any (:func:`native_view`).
 
     ``n_resamples`` (config ``report.bootstrap_resamples``) sets the resamples of
     :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
     is the Student t interval), so it does not change a verdict.
     """
     view = perturbed_view(results, twin_runs)
+    other = native_view(results, native_runs)
     if n_resamples is None:
-        return [evaluate(c, results, view) for c in CLAIMS]
+        return [evaluate(c, results, view, other) for c in CLAIMS]
     with stats.resamples(n_resamples):
-        return [evaluate(c, results, view) for c in CLAIMS]
+        return [evaluate(c, results, view, other) for c in CLAIMS]

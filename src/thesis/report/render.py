@@ -301,7 +301,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
             "declared deviation from the thesis's setup is in effect in the results it rests "
             "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
-            V.method_html(power), V.fragility_html(claims, decided.get("twin_runs"))]
+            V.method_html(power), V.fragility_html(claims, decided.get("twin_runs"),
+                                                  decided.get("native_runs"))]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:

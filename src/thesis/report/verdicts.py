@@ -278,36 +278,55 @@ def method_html(power: dict | None) -> str:
               f"Nominal false-'reproduced' rate {100 * power.get('nominal', 0.025):g} %.</p>")
 
 
-def fragility_html(claims: list[dict], twin_runs: list[str] | None = None) -> str:
+def _moved_text(claims: list[dict], twin: str, flag: str) -> str:
+    """'k of n claims decided on twins, m moved: ids' (or 'no twin runs') for one chapter's
+    claims and one kind of twin (``twin``: the claim's key of the twin verdict, ``flag``:
+    its key of "the verdict moved")."""
+    checked = [c for c in claims if twin in c]
+    moved = [c["id"] for c in checked if c.get(flag)]
+    if not checked:
+        return "no twin runs"
+    return (f"{len(checked)} of {len(claims)} claims decided on twins, {len(moved)} "
+            + ("fragile" if flag == "fragile" else "moved")
+            + (": " + ", ".join(moved) if moved else ""))
+
+
+def fragility_html(claims: list[dict], twin_runs: list[str] | None = None,
+                   native_runs: list[str] | None = None) -> str:
     """How much of each chapter's verdicts survives a rounding-level perturbation of its
-    runs: per chapter, the claims decided again on perturbed twin runs (chapter 6's own
-    per-run twins; every other chapter's ``results/<profile>-perturbed/``, ``twin_runs``)
-    and those whose verdict moved (fragile), or that no twin runs were made."""
-    text = ("<h3 id=\"fragility\">Fragility: the verdicts on perturbed twin runs</h3><p>A "
-            "closed loop that is chaotic at the rounding level turns a last-bit difference "
-            "(another CPU's kernels) into another outcome. A twin run starts every "
-            "simulation (chapter 2: every network's initial weights) moved by about one "
-            "float32 ulp (relative 1e-7) and is decided by the same rules; a verdict it moves "
-            "is <b class=fragile>fragile</b>. Chapter 6's runs carry their own twins; the "
-            "other chapters' are made with <code>snakemake --config profile=&lt;p&gt; "
-            "perturb=1e-7</code> into <code>results/&lt;p&gt;-perturbed/</code>.</p>")
+    runs, and another instruction set: per chapter, the claims decided again on perturbed
+    twin runs (chapter 6's own per-run twins; every other chapter's
+    ``results/<profile>-perturbed/``, ``twin_runs``) and those whose verdict moved
+    (fragile); the claims decided again on native twin runs (``results/<profile>-native/``,
+    ``native_runs``: every CPU pin lifted) and those whose verdict moved (ISA-dependent);
+    or that no such twin runs were made."""
+    text = ("<h3 id=\"fragility\">Fragility: the verdicts on perturbed and native twin "
+            "runs</h3><p>A closed loop that is chaotic at the rounding level turns a last-bit "
+            "difference (another CPU's kernels) into another outcome. A perturbed twin run "
+            "starts every simulation (chapter 2: every network's initial weights) moved by "
+            "about one float32 ulp (relative 1e-7) and is decided by the same rules; a "
+            "verdict it moves is <b class=fragile>fragile</b>. Chapter 6's runs carry their "
+            "own twins; the other chapters' are made with <code>snakemake --config "
+            "profile=&lt;p&gt; perturb=1e-7</code> into <code>results/&lt;p&gt;-perturbed/"
+            "</code>. A native twin run computes with the host's own kernels instead of the "
+            "AVX2-class ones every run is pinned to (<code>snakemake --config "
+            "profile=&lt;p&gt; isa=native</code> into <code>results/&lt;p&gt;-native/</code>; "
+            "on an AVX-512 host, AVX-512 numpy, OpenBLAS and XLA code); a verdict it moves "
+            "depends on the instruction set.</p>")
     rows = []
     for ch in sorted({int(c.get("chapter", 0)) for c in claims}):
         sel = [c for c in claims if int(c.get("chapter", 0)) == ch]
-        checked = [c for c in sel if "perturbed" in c]
-        fragile = [c["id"] for c in checked if c.get("fragile")]
-        if not checked:
-            what = "no twin runs"
-        else:
-            what = (f"{len(checked)} of {len(sel)} claims decided on twins, "
-                    f"{len(fragile)} fragile" + (": " + ", ".join(fragile) if fragile else ""))
-        rows.append(f"<tr><td>{ch}</td><td>{html.escape(what)}</td></tr>")
-    if twin_runs:
-        text += (f"<p class=note>Twin runs read: {len(twin_runs)} results ("
-                 + html.escape(", ".join(sorted({k.split('/')[0] for k in twin_runs})))
-                 + ").</p>")
-    return (text + "<table><thead><tr><th>chapter</th><th>verdicts on twin runs</th></tr>"
-            "</thead><tbody>" + "".join(rows) + "</tbody></table>")
+        rows.append(f"<tr><td>{ch}</td>"
+                    f"<td>{html.escape(_moved_text(sel, 'perturbed', 'fragile'))}</td>"
+                    f"<td>{html.escape(_moved_text(sel, 'native', 'isa_dependent'))}</td></tr>")
+    for label, runs in (("Perturbed twin runs", twin_runs), ("Native twin runs", native_runs)):
+        if runs:
+            text += (f"<p class=note>{label} read: {len(runs)} results ("
+                     + html.escape(", ".join(sorted({k.split('/')[0] for k in runs})))
+                     + ").</p>")
+    return (text + "<table><thead><tr><th>chapter</th><th>verdicts on perturbed twin runs"
+            "</th><th>verdicts on native twin runs</th></tr></thead><tbody>" + "".join(rows)
+            + "</tbody></table>")
 
 
 _RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
