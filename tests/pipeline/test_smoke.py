@@ -126,6 +126,9 @@ def test_perturbed_twin_runs_plan_beside_the_profile():
     assert "results/smoke/" not in out.replace("results/smoke-perturbed/", "")
     assert "ch6_" not in out and "rule claims" not in out and "reports/smoke" not in out
     assert "ch7_table7_1" not in out and "ch2_chirpz_scaling" not in out  # timings
+    one = snakemake("ch7", "--config", "profile=smoke", "perturb=1e-7", "-n", timeout=300)
+    assert one.returncode == 0 and "ch7_ball" in one.stdout + one.stderr
+    assert "ch7_table7_1" not in one.stdout + one.stderr  # a chapter's target too
     bad = snakemake("--config", "profile=smoke", "perturb=0.5", "-n", timeout=300)
     assert bad.returncode != 0
     assert "perturb" in bad.stdout + bad.stderr
