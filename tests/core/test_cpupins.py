@@ -36,19 +36,27 @@ def test_cpu_flags_reads_the_first_flags_line(tmp_path):
     assert cpupins.cpu_flags(tmp_path / "missing") == set()
 
 
-@pytest.mark.skipif(not cpupins.pins(), reason="numpy and OpenBLAS are pinned on x86-64 only")
-def test_importing_thesis_first_pins_numpy_and_openblas():
-    """What a pipeline job sees: ``python -m thesis`` imports the package before numpy."""
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}
+def _job_sees(extra_env: dict[str, str]) -> dict:
+    """What a pipeline job's numpy and OpenBLAS run with: a fresh interpreter that imports
+    ``thesis`` before numpy (as ``python -m thesis`` does), without this process's pins,
+    with ``extra_env``."""
+    env = {**{k: v for k, v in os.environ.items()
+              if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")}, **extra_env}
     code = ("import thesis, json, numpy, scipy.linalg, threadpoolctl; "
             "f = numpy._core._multiarray_umath.__cpu_features__; "
             "print(json.dumps({'x86_v4': f.get('X86_V4', False), "
-            "'spr': f.get('AVX512_SPR', False), 'avx2': f.get('AVX2'), "
+            "'spr': f.get('AVX512_SPR', False), 'skx': f.get('AVX512_SKX', False), "
+            "'avx2': f.get('AVX2'), "
             "'blas': sorted({i.get('architecture') for i in threadpoolctl.threadpool_info() "
             "if i['internal_api'] == 'openblas'})}))")
-    out = json.loads(subprocess.run([sys.executable, "-c", code], env=env, check=True,
-                                    capture_output=True, text=True).stdout)
+    return json.loads(subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                     capture_output=True, text=True).stdout)
+
+
+@pytest.mark.skipif(not cpupins.pins(), reason="numpy and OpenBLAS are pinned on x86-64 only")
+def test_importing_thesis_first_pins_numpy_and_openblas():
+    """What a pipeline job sees: ``python -m thesis`` imports the package before numpy."""
+    out = _job_sees({})
     # numpy's AVX-512 loops are off, its AVX2 loops stay; every OpenBLAS loaded (numpy's,
     # scipy's) runs the Haswell kernels
     assert out["x86_v4"] is False and out["spr"] is False
@@ -77,15 +85,6 @@ def test_native_env_lifts_every_pin():
 @pytest.mark.skipif("avx512f" not in cpupins.cpu_flags(),
                     reason="a native run differs from a pinned one on AVX-512 hosts only")
 def test_native_env_reaches_numpy_and_openblas():
-    env = {**{k: v for k, v in os.environ.items()
-              if k not in ("NPY_DISABLE_CPU_FEATURES", "OPENBLAS_CORETYPE")},
-           **cpupins.native_env()}
-    code = ("import thesis, json, numpy, threadpoolctl; "
-            "f = numpy._core._multiarray_umath.__cpu_features__; "
-            "print(json.dumps({'skx': f.get('AVX512_SKX', False), "
-            "'blas': sorted({i.get('architecture') for i in threadpoolctl.threadpool_info() "
-            "if i['internal_api'] == 'openblas'})}))")
-    out = json.loads(subprocess.run([sys.executable, "-c", code], env=env, check=True,
-                                    capture_output=True, text=True).stdout)
+    out = _job_sees(cpupins.native_env())
     assert out["skx"] is True
     assert out["blas"] == [cpupins.native_env()["OPENBLAS_CORETYPE"]]
