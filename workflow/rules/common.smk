@@ -30,7 +30,7 @@ RUNS = results_name(PROFILE, perturbed=bool(PERTURB), native=NATIVE)
 # a native twin's jobs get native_env's variables (XLA's cap added to the user's flags).
 _NATIVE_ENV = native_env() if NATIVE else {}
 THESIS = (
-    "".join(f"{k}=\"{'$XLA_FLAGS ' if k == 'XLA_FLAGS' else ''}{v}\" "
+    "".join(f"{k}=\"{'${XLA_FLAGS:-} ' if k == 'XLA_FLAGS' else ''}{v}\" "
             for k, v in _NATIVE_ENV.items())
     + f"{sys.executable} -m thesis"
     + (f" --perturb {PERTURB!r}" if PERTURB else "")
