@@ -12,6 +12,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 
 import jax
 import pytest
@@ -147,6 +148,15 @@ def test_native_twin_runs_plan_beside_the_profile():
     commands = [line for line in out.splitlines() if " -m thesis " in line]
     assert commands and all('NPY_DISABLE_CPU_FEATURES=""' in line for line in commands)
     assert all("--xla_cpu_max_isa=AMX_FP16" in line for line in commands)
+    # the prefix runs under the jobs' `set -euo pipefail` with XLA_FLAGS unset
+    prefix = commands[0].split("Shell command: ", 1)[-1].split(f"{sys.executable} -m thesis")[0]
+    probe = subprocess.run(
+        ["bash", "-c", "set -euo pipefail; " + prefix + f"{sys.executable} -c "
+         "'import os; print(os.environ[\"XLA_FLAGS\"])'"],
+        env={k: v for k, v in os.environ.items() if k != "XLA_FLAGS"},
+        capture_output=True, text=True, timeout=60)
+    assert probe.returncode == 0, probe.stderr
+    assert probe.stdout.split() == ["--xla_cpu_max_isa=AMX_FP16"]
     assert "results/smoke/" not in out.replace("results/smoke-native/", "")
     assert "rule claims" not in out and "reports/smoke" not in out
     assert "ch7_table7_1" not in out and "ch2_chirpz_scaling" not in out
