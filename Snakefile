@@ -57,7 +57,6 @@ def chapter(ch):
     return [f for f in CHAPTER_TARGETS[ch] if not (TWIN and f in TIMINGS)]
 
 
-
 rule all:
     default_target: True
     input:

@@ -68,6 +68,23 @@ def _paper_entry(key: str) -> dict[str, object]:
 TWIN_SUFFIX = "_perturbed"
 
 
+def replaced_view(results: Mapping[str, xr.Dataset],
+                  runs: Mapping[str, xr.Dataset] | None = None
+                  ) -> tuple[dict[str, xr.Dataset], set]:
+    """(the results with each result of ``runs`` in place of the result of the same key,
+    the keys replaced): the view of a profile's twin runs of one kind, perturbed
+    (``results/<profile>-perturbed/``, part of :func:`perturbed_view`) or native
+    (``results/<profile>-native/``: the same experiments with every CPU pin lifted,
+    :func:`thesis.cpupins.native_env`). Deciding a claim on the view decides it as those
+    runs would have."""
+    view, keys = dict(results), set()
+    for key, ds in (runs or {}).items():
+        if key in results:
+            view[key] = ds
+            keys.add(key)
+    return view, keys
+
+
 def perturbed_view(results: Mapping[str, xr.Dataset],
                    twin_runs: Mapping[str, xr.Dataset] | None = None
                    ) -> tuple[dict[str, xr.Dataset], set]:
@@ -78,11 +95,7 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
     per-run twins, :mod:`thesis.embodied.twins`) has each variable replaced by its twin's.
     Deciding a claim on the view decides it as the twin runs would have (issue: a verdict
     is fragile when a rounding-level perturbation of the runs moves it)."""
-    view, twinned = dict(results), set()
-    for key, ds in (twin_runs or {}).items():
-        if key in results:
-            view[key] = ds
-            twinned.add(key)
+    view, twinned = replaced_view(results, twin_runs)
     for key, ds in results.items():
         names = [n for n in ds.data_vars if n.endswith(TWIN_SUFFIX)]
         if not names or key in twinned:
@@ -93,22 +106,6 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
         view[key] = swapped
         twinned.add(key)
     return view, twinned
-
-
-def native_view(results: Mapping[str, xr.Dataset],
-                native_runs: Mapping[str, xr.Dataset] | None = None
-                ) -> tuple[dict[str, xr.Dataset], set]:
-    """(the results as native twin runs give them, the keys of the results that have
-    one): a result of ``native_runs`` (the same experiment rerun with every CPU pin lifted,
-    :func:`thesis.cpupins.native_env`, ``results/<profile>-native/``) replaces the result
-    of the same key. Deciding a claim on the view decides it as a host computing with
-    other kernels would (issue: a verdict that moves with the instruction set)."""
-    view, keys = dict(results), set()
-    for key, ds in (native_runs or {}).items():
-        if key in results:
-            view[key] = ds
-            keys.add(key)
-    return view, keys
 
 
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
@@ -122,7 +119,8 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
     ``perturbed``: the verdict decided on the twins, and ``fragile`` (the two differ).
     Likewise, where a required result has a native twin run (``native``, a
-    :func:`native_view`), ``native``: the verdict decided on it, and ``isa_dependent``."""
+    :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
+    ``isa_dependent``."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     out = {
@@ -133,15 +131,13 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
     }
-    view, twinned = perturbed_view(results) if perturbed is None else perturbed
-    if twinned & set(claim.requires):
-        twin = claim.check(view)
-        out["perturbed"] = {"status": twin.status, "detail": twin.detail}
-        out["fragile"] = twin.status != verdict.status
-    if native is not None and native[1] & set(claim.requires):
-        other = claim.check(native[0])
-        out["native"] = {"status": other.status, "detail": other.detail}
-        out["isa_dependent"] = other.status != verdict.status
+    twins = (("perturbed", "fragile", perturbed_view(results) if perturbed is None
+              else perturbed), ("native", "isa_dependent", native))
+    for name, flag, decided_on in twins:
+        if decided_on is not None and decided_on[1] & set(claim.requires):
+            other = claim.check(decided_on[0])
+            out[name] = {"status": other.status, "detail": other.detail}
+            out[flag] = other.status != verdict.status
     return out
 
 
@@ -152,14 +148,14 @@ def evaluate_all(results: Mapping[str, xr.Dataset], *,
                  ) -> list[dict[str, object]]:
     """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`); ``twin_runs``:
     the profile's perturbed twin runs, if any were made (:func:`perturbed_view`);
-    ``native_runs``: its native twin runs, if any (:func:`native_view`).
+    ``native_runs``: its native twin runs, if any (:func:`replaced_view`).
 
     ``n_resamples`` (config ``report.bootstrap_resamples``) sets the resamples of
     :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
     is the Student t interval), so it does not change a verdict.
     """
     view = perturbed_view(results, twin_runs)
-    other = native_view(results, native_runs)
+    other = replaced_view(results, native_runs)
     if n_resamples is None:
         return [evaluate(c, results, view, other) for c in CLAIMS]
     with stats.resamples(n_resamples):
