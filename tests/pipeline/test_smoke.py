@@ -122,6 +122,8 @@ def test_perturbed_twin_runs_plan_beside_the_profile():
     assert "results/smoke-perturbed/ch3/table3_1.nc" in out
     assert "results/smoke-perturbed/ch7/ball.nc" in out
     assert "data/synthetic/puppy/smoke-perturbed.h5" in out
+    assert "data/synthetic/cluttered_mnist/smoke-perturbed.h5" in out
+    assert "synthetic/puppy/smoke.h5" not in out and "cluttered_mnist/smoke.h5" not in out
     commands = [line for line in out.splitlines() if " -m thesis " in line]
     assert commands and all("-m thesis --perturb 1e-07 " in line for line in commands)
     assert "results/smoke/" not in out.replace("results/smoke-perturbed/", "")
@@ -158,6 +160,8 @@ def test_native_twin_runs_plan_beside_the_profile():
     assert probe.returncode == 0, probe.stderr
     assert probe.stdout.split() == ["--xla_cpu_max_isa=AMX_FP16"]
     assert "results/smoke/" not in out.replace("results/smoke-native/", "")
+    assert "data/synthetic/cluttered_mnist/smoke-native.h5" in out
+    assert "synthetic/puppy/smoke.h5" not in out and "cluttered_mnist/smoke.h5" not in out
     assert "rule claims" not in out and "reports/smoke" not in out
     assert "ch7_table7_1" not in out and "ch2_chirpz_scaling" not in out
     both = snakemake("--config", "profile=smoke", "isa=native", "perturb=1e-7", "-n",

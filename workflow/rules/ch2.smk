@@ -37,7 +37,9 @@ rule ch2_cluttered_mnist:
     message:
         "Synthesising cluttered MNIST sequences (§2.5), profile {PROFILE}"
     output:
-        data=data_path("cluttered_mnist", f"{PROFILE}.h5"),
+        # per run, like ch5's recordings: a twin run synthesises its own copy and never
+        # rewrites (and so reruns) the profile's
+        data=data_path("cluttered_mnist", f"{RUNS}.h5"),
     params:
         cfg=cfg_slice("ch2/cluttered_mnist"),
         code=code_of("ch2"),
