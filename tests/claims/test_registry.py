@@ -116,6 +116,9 @@ def test_a_verdict_the_perturbed_twin_runs_move_is_fragile():
     assert same[cid]["perturbed"]["status"] == "reproduced"
     assert moved[cid]["status"] == "reproduced" and moved[cid]["fragile"] is True
     assert moved[cid]["perturbed"]["status"] != "reproduced"
+    # the twins' own numbers, beside the run's: the plain network's error moved to 0.03
+    assert moved[cid]["perturbed"]["measured"] != moved[cid]["measured"]
+    assert same[cid]["perturbed"]["measured"].keys() == same[cid]["measured"].keys()
     alone = {o["id"]: o for o in claims.evaluate_all(run)}
     assert "fragile" not in alone[cid] and "perturbed" not in alone[cid]
     assert "fragile" not in moved["ch3.spline_fastest"]
