@@ -37,9 +37,7 @@ rule ch2_cluttered_mnist:
     message:
         "Synthesising cluttered MNIST sequences (§2.5), profile {PROFILE}"
     output:
-        # per run, like ch5's recordings: a twin run synthesises its own copy and never
-        # rewrites (and so reruns) the profile's
-        data=data_path("cluttered_mnist", f"{RUNS}.h5"),
+        data=data_path("cluttered_mnist"),
     params:
         cfg=cfg_slice("ch2/cluttered_mnist"),
         code=code_of("ch2"),

@@ -17,7 +17,7 @@ rule ch5_puppy_recordings:
     message:
         "Simulating the Puppy II trials of Tab. 5.1 on five terrains, profile {PROFILE}"
     output:
-        data=data_path("puppy", f"{RUNS}.h5"),
+        data=data_path("puppy"),
     params:
         cfg=cfg_slice("ch5/puppy_recordings"),
         code=CH5_DATA_CODE,

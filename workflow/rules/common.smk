@@ -63,9 +63,11 @@ def result(ch, name):
     return f"results/{RUNS}/{ch}/{name}.nc"
 
 
-def data_path(*parts):
-    """data/synthetic/... (generated inputs, git-ignored)"""
-    return "data/synthetic/" + "/".join(parts)
+def data_path(name):
+    """data/synthetic/<name>/<profile>.h5 (a generated input, git-ignored), named after the
+    run like its results (<profile>-perturbed, <profile>-native): a twin run makes its own
+    copy and never rewrites, and so reruns, the profile's."""
+    return f"data/synthetic/{name}/{RUNS}.h5"
 
 
 def log_path(ch, name):

@@ -117,8 +117,8 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     (``departures``, each with ``in_effect``) and its ``reading``
     (:func:`thesis.claims.basis.reading`). Where a result the claim requires carries
     perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
-    ``perturbed``: the verdict decided on the twins (status, detail and the measured
-    numbers behind it), and ``fragile`` (the two differ).
+    ``perturbed``: the verdict decided on the twins (status, measured numbers, statistic,
+    detail), and ``fragile`` (the two differ).
     Likewise, where a required result has a native twin run (``native``, a
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
     ``isa_dependent``."""
@@ -137,9 +137,7 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     for name, flag, decided_on in twins:
         if decided_on is not None and decided_on[1] & set(claim.requires):
             other = claim.check(decided_on[0])
-            twin = other.to_dict()
-            out[name] = {"status": twin["status"], "detail": twin["detail"],
-                         "measured": twin["measured"]}
+            out[name] = other.to_dict()
             out[flag] = other.status != verdict.status
     return out
 
