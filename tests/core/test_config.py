@@ -32,10 +32,21 @@ def test_every_key_has_description_and_default():
 
 
 def test_every_object_forbids_unknown_keys():
+    """Every object lists its keys, or (a mapping such as a teacher's parameters) names
+    the allowed ones in ``propertyNames``."""
     schema = load_schema()
     open_objects = [p for p, s, _ in _walk(schema)
-                    if s.get("type") == "object" and s.get("additionalProperties") is not False]
+                    if s.get("type") == "object" and s.get("additionalProperties") is not False
+                    and "enum" not in s.get("propertyNames", {})]
     assert open_objects == []
+
+
+def test_a_mapping_names_the_unknown_key_and_the_allowed_ones():
+    bad = {"trot": {"family": "half_ellipse", "params": {"x1": 1.0}}}
+    with pytest.raises(ConfigError) as e:
+        validate_config({"profile": "smoke", "ch6": {"teacher": {"fixed": bad}}})
+    assert "ch6.teacher.fixed.trot.params" in str(e.value) and "'x1'" in str(e.value)
+    assert "'y0_fore'" in str(e.value)
 
 
 def test_unknown_key_is_named_with_allowed_keys():

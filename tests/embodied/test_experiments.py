@@ -10,6 +10,7 @@ import pytest
 import xarray as xr
 
 from thesis import claims
+from thesis.config import load_config
 from thesis.embodied import experiments as E
 from thesis.embodied import loop
 from thesis.embodied import protocol as PR
@@ -47,6 +48,81 @@ def test_candidate_params():
     assert w[fam.index("duty")] == 0.75 and w[fam.index("a")] == pytest.approx(60.0)
     with pytest.raises(ValueError, match="teacher family"):
         TE.family("sine")
+
+
+def _fixed(params=None, family="half_ellipse"):
+    p = dict(x0=145.0, y0_fore=0.0, y0_hind=20.0, a=60.0, b_fore=50.0, b_hind=10.0)
+    return dict(family=family, params=p if params is None else params)
+
+
+def test_fixed_params_take_frequency_and_walk_duty_from_the_config():
+    fam = TE.family("half_ellipse")
+    name, p = TE.fixed_params(_fixed(dict(_fixed()["params"], duty=0.55)), "trot", 1.7)
+    assert name == "half_ellipse" and p[fam.index("f")] == 1.7
+    assert p[fam.index("duty")] == 0.55 and p[fam.index("a")] == 60.0
+    _, w = TE.fixed_params(_fixed(), "walk", 1.7, duty=0.75)  # outside the trot's box
+    assert w[fam.index("duty")] == 0.75 and w[fam.index("x0")] == 145.0
+
+
+def test_fixed_params_name_the_key_and_what_is_wrong():
+    with pytest.raises(ValueError, match=r"ch6.teacher.fixed.trot.params.*missing \['duty'\]"):
+        TE.fixed_params(_fixed(), "trot", 1.7)
+    extra = dict(_fixed()["params"], duty=0.75)
+    with pytest.raises(ValueError, match=r"ch6.teacher.fixed.walk.params.*not allowed \['duty'\]"):
+        TE.fixed_params(_fixed(extra), "walk", 1.7, duty=0.75)
+    far = dict(_fixed()["params"], a=500.0)  # beyond a_max(x0)
+    with pytest.raises(ValueError, match=r"'a'\] lie outside the half_ellipse"):
+        TE.fixed_params(_fixed(far), "walk", 1.7, duty=0.75)
+    with pytest.raises(ValueError, match="teacher family"):
+        TE.fixed_params(_fixed(family="sine"), "walk", 1.7, duty=0.75)
+
+
+def _screen_config(**teacher):
+    """The smoke ch6 section with a protocol of a few seconds and no perturbed twins."""
+    cfg = load_config("smoke", overrides={"ch6": {
+        "teacher": teacher, "perturbation": {"relative": 0.0},
+        "protocol": dict(settle=0.25, normalisation=0.5, stage_seconds=0.5, running=1.0,
+                         power_off=0.25, recovery=1.0),
+        "walk": {"stage_seconds": 0.5}, "criteria": {"window": 0.5, "recovery_within": 0.5}}})
+    return cfg["ch6"]
+
+
+def test_teacher_fixed_runs_the_configured_gaits_and_screen_reads_chapter3(tmp_path):
+    """source fixed: the two configured teachers, no chapter 3 input; source screen: ch3's
+    optima, and the optimum the fixed trot was made of gives the same open-loop run."""
+    cfg = _screen_config(source="fixed")
+    ctx = lambda c, inputs: RunContext(  # noqa: E731
+        key="ch6/teacher", profile="smoke", config=c, full_config={"root_seed": 2018},
+        inputs=inputs, log=logging.getLogger("test"))
+    fixed = E.teacher(ctx(cfg, {}))
+    assert list(fixed["candidate"].values) == ["trot/half_ellipse/fixed",
+                                               "walk/half_ellipse/fixed"]
+    assert fixed.attrs["teacher_source"] == "fixed"
+    assert list(fixed["candidate_source_seed"].values) == [-1, -1]
+    trot = cfg["teacher"]["fixed"]["trot"]["params"]
+    got = fixed["teacher_params"].sel(gait="trot")
+    for name, value in trot.items():
+        assert float(got.sel(parameter=name)) == value
+    assert float(got.sel(parameter="f")) == 1.7
+    assert float(fixed["teacher_params"].sel(gait="walk", parameter="duty")) == 0.75
+
+    fam = TE.family("half_ellipse")
+    names = ["t_stance_f" if n == "duty" else n for n in fam.names]
+    row = [trot.get(n, 1.7) for n in fam.names]  # f: any value, the screen sets 1.7
+    table = xr.Dataset({"value": (("gait", "parameter", "seed"), np.array(row)[None, :, None])},
+                       coords=dict(gait=["half_ellipse"], parameter=names, seed=[4]))
+    table.to_netcdf(tmp_path / "table3_1.nc", engine="h5netcdf")
+    scfg = _screen_config(source="screen", families=["half_ellipse"], stride_scales=[1.0])
+    with pytest.raises(KeyError, match="table3_1"):
+        E.teacher(ctx(scfg, {}))
+    screen = E.teacher(ctx(scfg, {"table3_1": tmp_path / "table3_1.nc"}))
+    assert list(screen["candidate"].values) == ["trot/half_ellipse/seed4/stride1",
+                                                "walk/half_ellipse/seed4/stride1"]
+    assert screen.attrs["teacher_source"] == "screen" and screen.attrs["seeds"] == [4]
+    np.testing.assert_array_equal(screen["teacher_params"].sel(gait="trot"),
+                                  fixed["teacher_params"].sel(gait="trot"))
+    for k in ("up_seconds", "speed", "passed"):
+        np.testing.assert_array_equal(screen[f"candidate_{k}"][0], fixed[f"candidate_{k}"][0])
 
 
 def _teachers():

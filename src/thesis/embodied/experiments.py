@@ -1,7 +1,8 @@
 """Experiment functions of chapter 6 (registered in :mod:`thesis.registry`).
 
-``teacher`` screens open-loop teachers (input ``table3_1``: chapter 3's optima); every
-other simulation reads its choice (input ``teacher``) and trains and tests a sweep of
+``teacher`` runs the open-loop teachers through the protocol (the fixed ones of the config,
+or a screen of chapter 3's optima, input ``table3_1``); every other simulation reads its
+choice (input ``teacher``) and trains and tests a sweep of
 controller configurations over the profile's seeds (:func:`thesis.embodied.sweep.run`):
 
 =================  ====================================================================
@@ -51,26 +52,31 @@ def _hb(h: int, b: int) -> str:
 
 # ------------------------------------------------------------------ teacher screen
 def teacher(ctx) -> xr.Dataset:
-    """The teacher screen of :mod:`thesis.embodied.teacher`: every candidate open loop
-    through its gait's protocol; the chosen trot and walk teachers."""
+    """The teacher screen of :mod:`thesis.embodied.teacher` (§6.4): every candidate (the
+    fixed teachers, or chapter 3's optima) open loop through its gait's protocol; the
+    chosen trot and walk teachers."""
     cfg = ctx.config
     tc, wc = cfg["teacher"], cfg["walk"]
-    table = xr.load_dataset(ctx.input("table3_1"))
+    freq = float(tc["frequency"])
+    table = xr.load_dataset(ctx.input("table3_1")) if tc["source"] == "screen" else None
     cands, teachers, conditions = [], {}, []
     for gait in TE.GAITS:
         offsets = T.TROT_PHASE if gait == "trot" else tuple(wc["phase_offsets"])
         duty = None if gait == "trot" else float(wc["duty"])
         stage = _stage(cfg) if gait == "trot" else float(wc["stage_seconds"])
-        for fam_name in tc["families"]:
-            for s in table["seed"].values:
-                for scale in tc["stride_scales"]:
-                    p = TE.candidate_params(table, fam_name, s, float(tc["frequency"]),
-                                            float(scale), duty)
-                    key = f"{gait}/{fam_name}/seed{int(s)}/stride{float(scale):g}"
-                    fam = TE.family(fam_name, offsets)
-                    teachers[key] = (fam, p, float(tc["frequency"]))
-                    conditions.append(Condition(key, key, 1, 0, stage, stage, _off(cfg)))
-                    cands.append((gait, fam_name, int(s), float(scale), p))
+        if table is None:  # the configured teacher, screened as a check
+            fam_name, p = TE.fixed_params(tc["fixed"][gait], gait, freq, duty)
+            found = [(f"{gait}/{fam_name}/fixed", fam_name, -1, np.nan, p)]
+        else:
+            found = [(f"{gait}/{fam_name}/seed{int(s)}/stride{float(scale):g}", fam_name,
+                      int(s), float(scale),
+                      TE.candidate_params(table, fam_name, s, freq, float(scale), duty))
+                     for fam_name in tc["families"] for s in table["seed"].values
+                     for scale in tc["stride_scales"]]
+        for key, fam_name, s, scale, p in found:
+            teachers[key] = (TE.family(fam_name, offsets), p, freq)
+            conditions.append(Condition(key, key, 1, 0, stage, stage, _off(cfg)))
+            cands.append((gait, fam_name, s, scale, p))
     model, state = S.model_of(cfg)
     dt = S.controller_dt(cfg)
     runs, labels, scheds, _, n = S.build_runs(conditions, [0], teachers, cfg, ctx.root_seed,
@@ -85,8 +91,8 @@ def teacher(ctx) -> xr.Dataset:
     ctx.log.info("ch6 teacher screen: %d candidates x %d steps, compile %.1f s, rollout "
                  "%.1f s", len(runs), n, timing["compile_seconds"], timing["rollout_seconds"])
     crit = cfg["criteria"]
-    names = []
-    for fam_name in tc["families"]:
+    names = []  # the union of the candidates' families' parameters, in family order
+    for fam_name in dict.fromkeys(c[1] for c in cands):
         names += [n for n in TE.PARAM_NAMES[fam_name] if n not in names]
     k_all = len(cands)
     res = {k: np.full(k_all, np.nan) for k in
@@ -120,9 +126,11 @@ def teacher(ctx) -> xr.Dataset:
              candidate_family=(cd, np.array([c[1] for c in cands]), dict(
                  units="1", long_name="foot-locus family of chapter 3")),
              candidate_source_seed=(cd, np.array([c[2] for c in cands]), dict(
-                 units="1", long_name="chapter 3 seed whose optimum the candidate is")),
+                 units="1", long_name="chapter 3 seed whose optimum the candidate is (-1: "
+                                      "the fixed teacher of teacher.fixed)")),
              candidate_stride_scale=(cd, np.array([c[3] for c in cands]), dict(
-                 units="1", long_name="factor applied to the optimum's stride a")),
+                 units="1", long_name="factor applied to the optimum's stride a (NaN: the "
+                                      "fixed teacher)")),
              candidate_params=(("candidate", "parameter"), params, dict(
                  units="mixed (thesis units: Hz, mm, 1)", long_name="gait parameters")),
              **{f"candidate_{k}": (cd, v, dict(units=u, long_name=ln)) for k, (u, ln) in {
@@ -167,7 +175,9 @@ def teacher(ctx) -> xr.Dataset:
                  long_name="simulated robot-seconds per wall-second of the rollout"))),
         coords=dict(candidate=[c.name for c in conditions], parameter=names,
                     gait=list(TE.GAITS), leg=["LF", "RF", "LH", "RH"]))
-    ds.attrs.update(thesis_ref="§6.4", seeds=[int(s) for s in table["seed"].values],
+    ds.attrs.update(thesis_ref="§6.4", teacher_source=tc["source"],
+                    # the chapter 3 seeds screened, or the one run seed of the fixed teachers
+                    seeds=[0] if table is None else [int(s) for s in table["seed"].values],
                     perturbation_relative=rel,
                     frequency=tc["frequency"], stride_scales=list(tc["stride_scales"]),
                     walk_duty=wc["duty"])

@@ -108,8 +108,12 @@ def teacher_table(results) -> Table:
                      fmt(float(d["candidate_speed"])), fmt(float(d["candidate_rec_speed"])),
                      "yes" if float(d["candidate_passed"]) == 1 else "no",
                      "teacher" if i in chosen else ""])
-    note = (f"Thesis: {thesis}. Candidates: chapter 3's optima at the teacher frequency with "
-            "scaled strides, open loop through the whole protocol incl. the power-off "
+    fixed = ds.attrs.get("teacher_source") == "fixed"
+    note = (f"Thesis: {thesis}. "
+            + ("Candidates: the fixed trot and walk teachers of the configuration "
+               "(ch6.teacher.fixed), at the teacher frequency" if fixed else
+               "Candidates: chapter 3's optima at the teacher frequency with scaled strides")
+            + ", open loop through the whole protocol incl. the power-off "
             "(thesis.embodied.teacher). Passed: upright until power-off and walking forward "
             "after power-on.")
     for g in ds["gait"].values:
