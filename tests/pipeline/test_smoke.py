@@ -112,6 +112,20 @@ def test_other_profiles_plan_without_running(profile):
     assert proc.returncode == 0, proc.stderr[-4000:]
 
 
+def test_fixed_teachers_do_not_wait_for_chapter3():
+    """ch6 with fixed teachers (the default) plans without chapter 3; a screen of chapter
+    3's optima (``ch6.teacher.source = screen``) plans its table3_1 first."""
+    def jobs(*config):
+        proc = snakemake("ch6", "--forceall", "-n", "--config", "profile=smoke", *config,
+                         timeout=300)
+        assert proc.returncode == 0, proc.stderr[-4000:]
+        return proc.stdout + proc.stderr
+    fixed = jobs()
+    assert "ch6_teacher" in fixed and "ch3_table3_1" not in fixed
+    screen = jobs('ch6={"teacher": {"source": "screen"}}')
+    assert "ch3_table3_1" in screen and "--input table3_1=" in screen
+
+
 def test_perturbed_twin_runs_plan_beside_the_profile():
     """``--config perturb=1e-7`` plans every chapter but ch6 (its runs carry their own
     twins) into results/smoke-perturbed/ with ``thesis --perturb``, and no claims or report
