@@ -13,6 +13,7 @@ from scipy import stats as sps
 
 from thesis.claims import calibration as C
 from thesis.claims import ch6, stats
+from thesis.config import load_config
 
 #: Simulated nulls per cell: enough for a 3-SE bound of 4 % at the 2.5 % level, cheap
 #: enough for the whole module to stay within ~30 s of CPU.
@@ -68,12 +69,39 @@ def test_the_t_interval_is_the_chosen_candidate():
 
 def test_works_rule_of_chapter_6_is_calibrated_exactly():
     """A configuration that fails (success rate FAILS_RATE) is called "works" at most
-    2.5 % of the time, and one that works (WORKS_RATE) is called "fails" as rarely."""
-    for n in C.SEED_COUNTS:
+    2.5 % of the time, and one that works (WORKS_RATE) is called "fails" as rarely, at
+    every seed count chapter 6 runs."""
+    for n in sorted(set(C.SEED_COUNTS) | set(C.RATE_SEED_COUNTS)):
         works = [k for k in range(n + 1) if ch6.judge(k / n, n) == "works"]
         fails = [k for k in range(n + 1) if ch6.judge(k / n, n) == "fails"]
         assert sum(sps.binom.pmf(works, n, ch6.FAILS_RATE)) <= stats.ONE_SIDED
         assert sum(sps.binom.pmf(fails, n, ch6.WORKS_RATE)) <= stats.ONE_SIDED
+        assert C.rate_verdict_probability(n, ch6.FAILS_RATE, "works") == pytest.approx(
+            sum(sps.binom.pmf(works, n, ch6.FAILS_RATE)))
+
+
+@pytest.mark.parametrize("profile", ["smoke", "default", "paper"])
+def test_the_rate_rule_is_calibrated_at_every_profiles_chapter_6_seed_count(profile):
+    """Chapter 6's seed count in each profile is one the rate rule's calibration and power
+    rows cover (a profile that changes it must extend RATE_SEED_COUNTS)."""
+    n = len(load_config(profile)["ch6"]["seeds"])
+    assert n in C.RATE_SEED_COUNTS, (profile, n, C.RATE_SEED_COUNTS)
+
+
+def test_the_rate_rule_power_rows_at_the_default_seed_count():
+    """At 40 seeds (the default profile), a true success rate of 0.6 is called "works"
+    almost surely, and 0.4 most of the time; a "fails" needs a rate well below 0.4, as
+    counts of 14-17 of 40 are read as "works" (judge_rate's overlap)."""
+    rows = {(r["rule"], r["n_seeds"], r["effect"]): r["power"]
+            for r in C.power_table(reps=10, ns=(), rate_ns=(40,))["rows"]}
+    assert rows[("rate_works", 40, 0.6)] > 0.99
+    assert 0.5 < rows[("rate_works", 40, 0.4)] < 0.95
+    assert rows[("rate_fails", 40, 0.0)] == pytest.approx(1.0)
+    assert rows[("rate_fails", 40, 0.4)] < rows[("rate_fails", 40, 0.2)]
+    assert stats.judge_rate(14, 40, works_rate=ch6.WORKS_RATE,
+                            fails_rate=ch6.FAILS_RATE) == "works"
+    assert stats.judge_rate(13, 40, works_rate=ch6.WORKS_RATE,
+                            fails_rate=ch6.FAILS_RATE) == "fails"
 
 
 def test_holm_over_seven_configurations_holds_the_family_level():

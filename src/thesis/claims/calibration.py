@@ -11,7 +11,9 @@ alone (see the module text of :mod:`thesis.claims.stats`).
 
 :func:`power_table` gives the other side: the probability of "reproduced" when the claim
 is true, per seed count and true effect (in standard deviations of the per-seed
-difference), for rules 4, 5 and 10. ``thesis check`` writes it to
+difference), for rules 4, 5 and 10, and for chapter 6's "a configuration works / fails"
+(:func:`thesis.claims.stats.judge_rate`, exact) at the seed counts chapter 6 runs,
+:data:`RATE_SEED_COUNTS`. ``thesis check`` writes it to
 ``results/<profile>/claims_power.json`` and the report shows it in its method section.
 
 Every simulation draws from a generator seeded by its arguments, so the tables are
@@ -30,10 +32,13 @@ import numpy as np
 from scipy import integrate, optimize
 from scipy import stats as sps
 
-from thesis.claims import stats
+from thesis.claims import ch6, stats
 
 #: Seed counts the rules are calibrated at (the profiles run 3 to 10 seeds).
 SEED_COUNTS = (3, 5, 10)
+#: Seed counts of chapter 6's rate rule (:func:`thesis.claims.stats.judge_rate`): the
+#: profiles' chapter-6 seed counts (smoke 6, paper 10, default 40) and 20 between them.
+RATE_SEED_COUNTS = (6, 10, 20, 40)
 #: Root seed of every simulation here.
 SEED = 20240601
 #: Particles and generations of the simulated rule-9 runs (small: the per-seed effect is an
@@ -44,6 +49,11 @@ RUN_PARTICLES = 10
 EFFECTS = (0.5, 1.0, 2.0)
 #: True event rates of rule 10's power rows.
 RATES = (0.75, 0.9, 1.0)
+#: True success rates of the rate rule's power rows: "works" 0.2, 0.4 and 0.6 above the
+#: rate of a configuration that fails (:data:`thesis.claims.ch6.FAILS_RATE`), "fails" as
+#: far below that of one that works (:data:`thesis.claims.ch6.WORKS_RATE`).
+WORKS_RATES = (0.4, 0.6, 0.8)
+FAILS_RATES = (0.4, 0.2, 0.0)
 
 #: Per-seed laws, as frozen scipy distributions: normal, skewed (exponential) and
 #: heavy-tailed (Student t with 2 degrees of freedom: infinite variance).
@@ -193,8 +203,22 @@ def _power_majority(n: int, rate: float) -> float:
     return float(sum(sps.binom.pmf(k, n, rate) for k in ks))
 
 
+def rate_verdict_probability(n: int, rate: float, judged: str) -> float:
+    """Exact: the probability that chapter 6's rate rule (:func:`thesis.claims.ch6.judge`,
+    i.e. :func:`thesis.claims.stats.judge_rate` with ``WORKS_RATE`` and ``FAILS_RATE``)
+    says ``judged`` ("works", "fails" or "unclear") for ``n`` seeds whose true success
+    rate is ``rate`` (sum of binomial probabilities over the counts it says so at)."""
+    ks = [k for k in range(n + 1)
+          if stats.judge_rate(k, n, works_rate=ch6.WORKS_RATE,
+                              fails_rate=ch6.FAILS_RATE) == judged]
+    return float(sps.binom.pmf(ks, n, rate).sum())
+
+
 def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
-                effects: Sequence[float] = EFFECTS, rates: Sequence[float] = RATES) -> dict:
+                effects: Sequence[float] = EFFECTS, rates: Sequence[float] = RATES,
+                rate_ns: Sequence[int] = RATE_SEED_COUNTS,
+                works_rates: Sequence[float] = WORKS_RATES,
+                fails_rates: Sequence[float] = FAILS_RATES) -> dict:
     """Probability of "reproduced" when the claim holds, per seed count (deterministic).
 
     Returns ``{"nominal": ..., "reps": ..., "rows": [...]}``; each row has ``rule``,
@@ -202,7 +226,9 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
 
     - rule 4 ("A beats B"): normal per-seed differences with mean ``effect`` sd;
     - rule 5 ("A is like B"): true difference 0, margin ``effect`` sd;
-    - rule 10 ("in most runs"): event rate ``rate`` (exact binomial sum).
+    - rule 10 ("in most runs"): event rate ``rate`` (exact binomial sum);
+    - chapter 6's rate rule at ``rate_ns`` seeds (exact): "a configuration works" at
+      true success rates ``works_rates``, "a configuration fails" at ``fails_rates``.
     Rule 6 has rule 4's power (one-sample t on the values minus the bound).
     """
     rows = []
@@ -217,6 +243,15 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
         for r in rates:
             rows.append({"rule": "rule10_majority", "n_seeds": n, "effect": r,
                          "truth": f"event rate {r:g}", "power": _power_majority(n, r)})
+    for n in rate_ns:
+        for r in works_rates:
+            rows.append({"rule": "rate_works", "n_seeds": n, "effect": r,
+                         "truth": f"success rate {r:g}",
+                         "power": rate_verdict_probability(n, r, "works")})
+        for r in fails_rates:
+            rows.append({"rule": "rate_fails", "n_seeds": n, "effect": r,
+                         "truth": f"success rate {r:g}",
+                         "power": rate_verdict_probability(n, r, "fails")})
     return {"nominal": stats.ONE_SIDED, "reps": reps, "seed": SEED,
             "interval": stats.INTERVAL_METHOD, "rows": rows}
 

@@ -14,6 +14,7 @@ import html
 import json
 
 from thesis.claims import basis
+from thesis.claims import ch6 as claims_ch6
 
 STATUS_COLOURS = {
     "reproduced": "#1b7837",
@@ -261,20 +262,24 @@ def method_html(power: dict | None) -> str:
                 + '<p class="notrun">power table not computed (run <code>thesis check</code>)'
                   "</p>")
     rows = power["rows"]
-    cols = list(dict.fromkeys((r["rule"], r["truth"]) for r in rows))
+    # one row per rule and truth, one column per seed count ("—": not computed there)
+    lines = list(dict.fromkeys((r["rule"], r["truth"]) for r in rows))
     ns = sorted({int(r["n_seeds"]) for r in rows})
     cell = {(r["rule"], r["truth"], int(r["n_seeds"])): r["power"] for r in rows}
-    head = "".join(f"<th>{html.escape(_RULE_WORDS.get(rule, rule))}<br>"
-                   f"<span class=note>{html.escape(truth)}</span></th>" for rule, truth in cols)
-    body = "".join("<tr><td>" + str(n) + "</td>" + "".join(
-        f"<td>{100 * cell[(rule, truth, n)]:.0f} %</td>" if (rule, truth, n) in cell
-        else "<td>—</td>" for rule, truth in cols) + "</tr>" for n in ns)
+    head = "".join(f"<th>{n} seeds</th>" for n in ns)
+    body = "".join(
+        f"<tr><td>{html.escape(_RULE_WORDS.get(rule, rule))}</td>"
+        f"<td>{html.escape(truth)}</td>" + "".join(
+            f"<td>{100 * cell[(rule, truth, n)]:.0f} %</td>" if (rule, truth, n) in cell
+            else "<td>—</td>" for n in ns) + "</tr>" for rule, truth in lines)
     return ('<h2 id="method">Method: how a verdict is decided</h2>' + text
             + "<h3>Power: probability of 'reproduced' when the claim is true</h3>"
-            '<div class="wide"><table><thead><tr><th>seeds</th>' + head + "</tr></thead><tbody>"
-            + body + "</tbody></table></div>"
+            '<div class="wide"><table><thead><tr><th>rule</th><th>what is true</th>' + head
+            + "</tr></thead><tbody>" + body + "</tbody></table></div>"
             + f'<p class="note">Simulated with {power.get("reps")} draws per cell (seeded), '
-              "normal per-seed differences in standard deviations; 'in most runs' exact. "
+              "normal per-seed differences in standard deviations; 'in most runs' and "
+              "chapter 6's 'a configuration works / fails' (against success rates of "
+              f"{claims_ch6.FAILS_RATE:g} / {claims_ch6.WORKS_RATE:g}) exact. "
               f"Nominal false-'reproduced' rate {100 * power.get('nominal', 0.025):g} %.</p>")
 
 
@@ -330,7 +335,9 @@ def fragility_html(claims: list[dict], twin_runs: list[str] | None = None,
 
 
 _RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
-               "rule10_majority": "in most runs"}
+               "rule10_majority": "in most runs",
+               "rate_works": "a configuration works (ch. 6)",
+               "rate_fails": "a configuration fails (ch. 6)"}
 
 
 def counts(claims: list[dict]) -> dict[str, int]:
