@@ -195,23 +195,25 @@ def _power_equivalent(n: int, margin: float, reps: int) -> float:
                           for x in d]))
 
 
+def _count_probability(n: int, rate: float, says: Callable[[int], bool]) -> float:
+    """Exact: the binomial probability, ``n`` seeds at true rate ``rate``, of the counts
+    ``k`` of successes for which ``says(k)`` holds."""
+    ks = [k for k in range(n + 1) if says(k)]
+    return float(sps.binom.pmf(ks, n, rate).sum())
+
+
 def _power_majority(n: int, rate: float) -> float:
     """Exact: the probability that rule 10 reproduces with ``n`` seeds at event rate
-    ``rate`` (sum over the counts it reproduces at)."""
-    ks = [k for k in range(n + 1)
-          if stats.decide_majority([1.0] * k + [0.0] * (n - k)).status == "reproduced"]
-    return float(sum(sps.binom.pmf(k, n, rate) for k in ks))
+    ``rate``."""
+    return _count_probability(n, rate, lambda k: stats.decide_majority(
+        [1.0] * k + [0.0] * (n - k)).status == "reproduced")
 
 
 def rate_verdict_probability(n: int, rate: float, judged: str) -> float:
-    """Exact: the probability that chapter 6's rate rule (:func:`thesis.claims.ch6.judge`,
-    i.e. :func:`thesis.claims.stats.judge_rate` with ``WORKS_RATE`` and ``FAILS_RATE``)
+    """Exact: the probability that chapter 6's rate rule (:func:`thesis.claims.ch6.judge`)
     says ``judged`` ("works", "fails" or "unclear") for ``n`` seeds whose true success
-    rate is ``rate`` (sum of binomial probabilities over the counts it says so at)."""
-    ks = [k for k in range(n + 1)
-          if stats.judge_rate(k, n, works_rate=ch6.WORKS_RATE,
-                              fails_rate=ch6.FAILS_RATE) == judged]
-    return float(sps.binom.pmf(ks, n, rate).sum())
+    rate is ``rate``."""
+    return _count_probability(n, rate, lambda k: ch6.judge(k / n, n) == judged)
 
 
 def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,

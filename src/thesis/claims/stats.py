@@ -85,7 +85,7 @@ Rules (applied uniformly by the decision helpers below):
     :data:`MIN_SEEDS` does; the count k of n is in the detail. **"A configuration works /
     fails"** (:func:`judge_rate`, chapter 6): the exact binomial test of its success
     rate against the rate of a configuration that fails (works) at :data:`ONE_SIDED`.
-    From about 30 seeds on, the two bands overlap (at 40 seeds "works" from 14 successes,
+    From 26 seeds on, the two bands overlap (at 40 seeds "works" from 14 successes,
     "fails" up to 17): such a count is both above a failing rate and below a working one,
     and the rule says "works" (the configuration does better than one that fails), so a
     claim that a configuration fails stays conservative there (its power is in the
