@@ -15,25 +15,36 @@ difference is reported as a stale reference). Tolerances default to
 ``make update-reference`` rewrites the references from ``results/smoke`` on purpose and
 prints what changed.
 
-Hosts. The engine's chapters (ch3, ch4, ch7) and ch5 gave the same smoke numbers on the
-AVX2 and the AVX-512 hosts measured (``jax.max_isa`` pins XLA's code, :mod:`thesis.cpupins`
-numpy's and OpenBLAS's). ch2's training did not: some of XLA's kernels still round
-differently on the AVX-512 host, and training carries a last-bit difference into other
-error rates. ch6's closed loops carry it into other gait outcomes, and are regressed
-through means over seeds (below).
-The references under ``tests/regression/<profile>/`` are those of :data:`CANONICAL_HOST`
-hosts; a result that differs on hosts of another class (:func:`host_class`) has its own
-reference under ``tests/regression/<profile>-<class>/``, which is used there instead
-(:func:`reference_file`), and ``update`` on such a host writes only those
-(:func:`update_references`).
+Chaotic results. PSO, CMA-ES, training and closed loops turn a last-bit difference
+(another CPU model, another instruction set, another library build) into another
+trajectory, so many smoke numbers are no property of the code alone and cannot be
+regressed bit for bit across hosts. Which ones, and by how much, is measured, not
+guessed: ``make update-reference`` runs the smoke profile with its two twin runs, the
+perturbed twins (every simulation and initial weight moved by about one float32 ulp,
+``--config perturb=1e-7``) and the native twins (every CPU pin lifted,
+``--config isa=native``: the host's own kernels, a stand-in for another CPU model), and
+:func:`measure_sensitivity` compares each variable with its twins:
 
-Chaotic results. ch6's closed loops amplify a rounding-level difference until a run's
-outcome can flip (measured by its perturbed twin runs, :mod:`thesis.embodied.twins`), so
-a single run's numbers are no property of its seed and cannot be regressed one by one
-across hosts. A variable marked ``regression_over=<dim>`` (e.g. ``"seed"``) is compared
-through its mean over that dimension (for labels: the share of each label), within the
-larger of the result's and the reference's ``regression_atol``; that tolerance is not part
-of the recorded policy, because it is measured by the run itself (:func:`chaos_tolerance`).
+* a variable every twin reproduces within the default tolerance is **deterministic** and
+  stays compared value by value at ``rtol=1e-3, atol=1e-6`` (data synthesis, closed
+  forms, engine validation, timings' sizes);
+* a variable some twin moves is **chaotic**: it is compared through a statistic that is
+  stable under such a move, its mean over the runs' ``seed`` dimension where it has one
+  (independent runs: the mean's host-to-host difference shrinks as 1/sqrt(n)), else its
+  mean over all its elements (for labels: the share of each label), within
+  ``CHAOS_Z`` times the difference the twins measured (:func:`chaos_tolerance`). The
+  reference records the twins' measurements beside the tolerance (``chaos``), and
+  ``tests/core/test_regression.py`` recomputes the tolerance from them, so no tolerance
+  is typed or widened by hand.
+
+ch6's runs carry their own perturbed twins and mark their per-run variables
+``regression_over="seed"`` with the tolerance those twins measure in the run itself;
+they are compared within the larger of that and the reference's twin-measured tolerance.
+
+Hosts. With chaotic variables compared through such statistics, one canonical reference
+set serves every host. A host class (:func:`host_class`) may still have its own
+reference for a result under ``tests/regression/<profile>-<class>/``
+(:func:`reference_file`), where a measured reason requires it; none does today.
 """
 
 from __future__ import annotations
@@ -139,6 +150,95 @@ def _compare_over(name: str, var: xr.DataArray, spec: dict, policy: dict) -> lis
             f"atol={atol:.4g} (max abs diff {err:.4g})"]
 
 
+#: The dimension of independent runs over which a chaotic variable is averaged.
+RUNS_DIM = "seed"
+
+
+def _chaos_over(var: xr.DataArray) -> str | None:
+    """The dimension a chaotic variable is averaged over: its own ``regression_over``, else
+    :data:`RUNS_DIM` where it has it, else ``None`` (the mean over all its elements)."""
+    over = var.attrs.get("regression_over") or (RUNS_DIM if RUNS_DIM in var.dims else None)
+    return str(over) if over else None
+
+
+def measure_sensitivity(var: xr.DataArray, twins: dict[str, xr.DataArray],
+                        z: float = CHAOS_Z) -> dict | None:
+    """How far rounding-level twins move a variable; ``None`` when none moves it.
+
+    ``twins`` maps a twin run's name to the same variable made by that run. A twin moves
+    the variable when it differs beyond the default tolerance (a twin of another shape
+    moves it by definition). For each twin the root-mean-square difference per element is
+    recorded (:func:`_twin_rms`); the tolerance of the statistic compared is
+    :func:`chaos_tolerance` of the largest, over ``n`` runs: the number of seeds where
+    the variable is averaged over seeds, else 1 (the mean over all elements moves by at
+    most the RMS difference, Cauchy-Schwarz, whatever the elements' correlation).
+
+    Returns ``{"over": dim or None, "n": n, "z": z, "twins": {name: rms}, "atol": tol}``.
+    """
+    moved, rms = False, {}
+    for name, twin in sorted(twins.items()):
+        a, b = np.asarray(var.values), np.asarray(twin.values)
+        if a.shape != b.shape:
+            raise ValueError(f"twin {name!r} of {var.name!r} has shape {b.shape}, "
+                             f"not {a.shape}: the twin run is of another configuration")
+        if not _close(a, b, DEFAULT_RTOL, DEFAULT_ATOL):
+            moved = True
+        rms[name] = _twin_rms(a, b)
+    if not moved:
+        return None
+    over = _chaos_over(var)
+    n = int(var.sizes[over]) if over else 1
+    worst = max(rms.values())
+    return {"over": over, "n": n, "z": float(z), "twins": rms,
+            "atol": chaos_tolerance_from_rms(worst, n, z)}
+
+
+def _twin_rms(a: np.ndarray, b: np.ndarray) -> float:
+    """Root-mean-square difference per element of a variable and its twin: pooled over
+    every element; labels count 1 where they differ; a value finite in one and not in the
+    other counts the quantity's largest magnitude (as :func:`chaos_tolerance`)."""
+    d = chaos_tolerance(a, b, 1, z=1.0)
+    return 0.0 if d <= DEFAULT_ATOL else float(d)
+
+
+def chaos_tolerance_from_rms(rms: float, n_over: int, z: float = CHAOS_Z) -> float:
+    """``max(DEFAULT_ATOL, z rms / sqrt(n_over))``: the tolerance of a mean over
+    ``n_over`` independent runs whose per-run twin difference has RMS ``rms``."""
+    return max(DEFAULT_ATOL, z * float(rms) / float(np.sqrt(max(int(n_over), 1))))
+
+
+def _compare_chaotic(name: str, var: xr.DataArray, spec: dict) -> list[str]:
+    """Compare a chaotic variable through its mean over runs (or over all elements, for
+    labels the share of each label) within the twin-measured ``spec["chaos"]["atol"]`` (and
+    the larger of the run's own ``regression_atol`` where it has one)."""
+    chaos = spec["chaos"]
+    over = chaos["over"]
+    if _is_text(var.values) != _is_text(spec["values"]):
+        return [f"variable {name!r}: labels against numbers"]
+    a, b = np.asarray(var.values), np.asarray(spec["values"], dtype=object)
+    if a.shape != b.shape:
+        return [f"variable {name!r} shape {a.shape} != {b.shape}"]
+    if over is not None and over not in var.dims:
+        return [f"variable {name!r} has no dimension {over!r} to compare over"]
+    atol = max(float(chaos["atol"]), float(var.attrs.get("regression_atol", DEFAULT_ATOL))
+               if var.attrs.get("regression_over") else DEFAULT_ATOL)
+    labels = sorted(set(a.astype(str).ravel()) | set(b.astype(str).ravel())) \
+        if _is_text(a) else []
+    if over is None:  # one mean over every element: flatten onto a single "run" axis
+        got = _means_over(a.reshape(-1), ["all"], "all", labels)
+        want = _means_over(np.asarray(spec["values"]).reshape(-1), ["all"], "all", labels)
+    else:
+        got = _means_over(a, list(var.dims), over, labels)
+        want = _means_over(spec["values"], spec["dims"], over, labels)
+    if np.allclose(got, want, rtol=DEFAULT_RTOL, atol=atol, equal_nan=True):
+        return []
+    with np.errstate(invalid="ignore"):
+        err = np.nanmax(np.abs(np.asarray(got, float) - np.asarray(want, float)))
+    what = f"mean over {over}" if over else "mean over all elements"
+    return [f"variable {name!r} (chaotic): {what} differs beyond the twin-measured "
+            f"atol={atol:.4g} (max abs diff {err:.4g})"]
+
+
 def _jsonable(a) -> list | float | str:
     a = np.asarray(a)
     if a.dtype.kind in "US O":
@@ -149,12 +249,22 @@ def _jsonable(a) -> list | float | str:
         if a.dtype.kind in "fc" else a.tolist()
 
 
-def to_reference(ds: xr.Dataset) -> dict:
-    """The JSON-ready reference of a result dataset."""
+def to_reference(ds: xr.Dataset, twins: dict[str, xr.Dataset] | None = None) -> dict:
+    """The JSON-ready reference of a result dataset.
+
+    ``twins`` maps a twin run's name (``"perturbed"``, ``"native"``) to the same result
+    made by that run; each variable some twin moves is recorded as chaotic with the
+    tolerance its twins measured (:func:`measure_sensitivity`).
+    """
     variables = {}
     for name, var in ds.data_vars.items():
         variables[name] = {"dims": list(var.dims), "values": _jsonable(var.values),
                            **default_tolerance(name, var)}
+        if variables[name]["compare"] and twins:
+            chaos = measure_sensitivity(var, {k: t[name] for k, t in twins.items()
+                                              if name in t.data_vars})
+            if chaos is not None:
+                variables[name]["chaos"] = chaos
     coords = {name: _jsonable(c.values) for name, c in ds.coords.items()}
     return {"thesis_ref": str(ds.attrs.get("thesis_ref", "")), "coords": coords,
             "variables": variables}
@@ -193,6 +303,9 @@ def compare(ds: xr.Dataset, ref: dict) -> list[str]:
             problems.append(f"variable {name!r}: the reference records {recorded}, the "
                             f"result asks for {policy} (stale reference)")
         if not policy["compare"]:
+            continue
+        if "chaos" in spec:
+            problems += _compare_chaotic(name, var, spec)
             continue
         if "over" in policy:
             problems += _compare_over(name, var, spec, policy)
@@ -238,9 +351,10 @@ def reference_path(root: Path, key: str) -> Path:
     return Path(root) / ch / f"{art}.json"
 
 
-#: Class of the hosts on which the references under ``tests/regression/<profile>/`` are
-#: recorded (:func:`host_class`).
-CANONICAL_HOST = "avx2"
+#: Host classes (:func:`host_class`) that the canonical references under
+#: ``tests/regression/<profile>/`` serve: all of them, through the chaotic variables'
+#: twin-measured tolerances (module docstring).
+CANONICAL_HOST = "any"
 
 
 def host_class(machine: str | None = None, flags: set[str] | None = None) -> str:
@@ -271,64 +385,58 @@ def reference_file(root: Path, key: str, host: str) -> Path:
     return own if own.exists() else reference_path(root, key)
 
 
-def update_references(results: dict[str, xr.Dataset], root: Path, host: str) -> list[str]:
-    """Rewrite the references of ``host``'s class from ``results``; returns what changed.
+def update_references(results: dict[str, xr.Dataset], root: Path,
+                      twins: dict[str, dict[str, xr.Dataset]] | None = None) -> list[str]:
+    """Rewrite the canonical references from ``results``; returns what changed.
 
-    On a :data:`CANONICAL_HOST` host: every canonical reference (:func:`write_references`),
-    plus a reminder of the other classes' references, which only their hosts can rewrite.
-    Elsewhere: a result within tolerance of its canonical reference needs none of its own
-    (a stale one is deleted); a result that differs gets its own; a result without a
-    canonical reference (a new artifact) writes the canonical one, flagged as recorded on a
-    ``host`` host.
+    ``twins`` maps a twin run's name (``"perturbed"``, ``"native"``) to its results, by key;
+    each result is recorded with the sensitivity its twins measure (:func:`to_reference`).
+    A result no twin run made is recorded as deterministic, except for its variables that
+    carry their own twins (``regression_over``). The references of host classes beside
+    ``root`` are listed, not rewritten: each needs a measured reason (module docstring).
     """
     root = Path(root)
-    if host == CANONICAL_HOST:
-        changes = write_references(results, root)
-        others = sorted(p for p in root.parent.glob(f"{root.name}-*") if p.is_dir())
-        return changes + [f"references of {p.name.removeprefix(root.name + '-')} hosts "
-                          f"({p}) are not rewritten here: rerun on such a host"
-                          for p in others]
-    own_root = host_root(root, host)
-    changes = []
-    for key, ds in sorted(results.items()):
-        canonical, own = reference_path(root, key), reference_path(own_root, key)
-        if not canonical.exists():
-            write_references({key: ds}, root)
-            changes.append(f"{key}: new reference, recorded on a {host} host, not on a "
-                           f"{CANONICAL_HOST} one")
-            continue
-        diff = compare(ds, json.loads(canonical.read_text()))
-        if not diff:
-            if own.exists():
-                own.unlink()
-                changes.append(f"{key}: matches the canonical reference; {own} removed")
-            continue
-        changes.append(f"{key}: differs from the canonical reference on {host} hosts "
-                       f"({len(diff)} differences): own reference {own}")
-        changes += write_references({key: ds}, own_root)
-    return changes
+    twins = twins or {}
+    changes = write_references(results, root, twins)
+    for name, runs in sorted(twins.items()):
+        missing = sorted(set(results) - set(runs))
+        if missing:
+            changes.append(f"no {name} twin of {', '.join(missing)}")
+    others = sorted(p for p in root.parent.glob(f"{root.name}-*") if p.is_dir())
+    return changes + [f"references of {p.name.removeprefix(root.name + '-')} hosts ({p}) "
+                      f"are kept as they are: delete them where the canonical ones serve"
+                      for p in others]
 
 
-def write_references(results: dict[str, xr.Dataset], root: Path) -> list[str]:
-    """Rewrite every reference from ``results``; returns a human-readable diff summary."""
+def write_references(results: dict[str, xr.Dataset], root: Path,
+                     twins: dict[str, dict[str, xr.Dataset]] | None = None) -> list[str]:
+    """Rewrite every reference from ``results`` (with the sensitivity measured against
+    ``twins``, :func:`update_references`); returns a human-readable diff summary."""
     changes = []
+    twins = twins or {}
     for key, ds in sorted(results.items()):
         path = reference_path(root, key)
-        new = to_reference(ds)
+        new = to_reference(ds, {name: runs[key] for name, runs in twins.items()
+                                if key in runs})
+        chaotic = sorted(n for n, v in new["variables"].items() if "chaos" in v)
         if path.exists():
             old = json.loads(path.read_text())
             diff = compare(ds, old)
             changes += [f"{key}: {d}" for d in diff] or [f"{key}: unchanged"]
         else:
             changes.append(f"{key}: new reference")
+        if chaotic:
+            changes.append(f"{key}: chaotic under its twins: {', '.join(chaotic)}")
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(new, indent=1) + "\n")
     return changes
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m thesis.regression update [profile] [refdir]``: rewrite the references of
-    this host's class (:func:`update_references`)."""
+    """``python -m thesis.regression update [profile] [refdir]``: rewrite the canonical
+    references from ``results/<profile>`` with the sensitivity that its twin runs
+    ``results/<profile>-perturbed`` and ``results/<profile>-native`` measure
+    (:func:`update_references`); ``make update-reference`` makes all three first."""
     import sys
 
     from thesis import store
@@ -343,9 +451,17 @@ def main(argv: list[str] | None = None) -> int:
     if not results:
         print(f"no results under results/{profile}: run the {profile} pipeline first")
         return 1
-    host = host_class()
-    print(f"host class {host} (canonical: {CANONICAL_HOST})")
-    for line in update_references(results, root, host):
+    twins = {}
+    for name, kw in (("perturbed", {"perturbed": True}), ("native", {"native": True})):
+        runs = store.load_results(store.results_name(profile, **kw))
+        if not runs:
+            print(f"no results under results/{store.results_name(profile, **kw)}: run "
+                  f"`snakemake --config profile={profile} "
+                  f"{'perturb=1e-7' if name == 'perturbed' else 'isa=native'}` first")
+            return 1
+        twins[name] = runs
+    print(f"host class {host_class()}; twins: {', '.join(twins)}")
+    for line in update_references(results, root, twins):
         print(line)
     return 0
 
