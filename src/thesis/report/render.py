@@ -23,7 +23,7 @@ from pathlib import Path
 
 from thesis import provenance, store
 from thesis.report.chapters import CHAPTERS
-from thesis.report import measurements
+from thesis.report import measurements, status
 from thesis.report import verdicts as V
 from thesis.report.model import NOT_RUN, Figure, Section, Table
 
@@ -247,8 +247,10 @@ def _section_claims(claims: list[dict], ch: str) -> list[dict]:
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
-                results: dict, power: dict | None = None) -> str:
+                results: dict, power: dict | None = None, decided: dict | None = None) -> str:
     lines = [f"# Thesis reproduction — profile `{profile}`", ""]
+    lines += status.status_md(status.chapter_status(results, claims),
+                              status.optional_runs(results, decided or {}, profile))
     lines += ["Claims: " + ", ".join(f"{k} {v}" for k, v in V.counts(claims).items()), "",
               "A verdict is *as stated* when no declared deviation from the thesis's setup is "
               "in effect in the results it rests on, and *under a declared deviation* "
@@ -298,6 +300,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
             f"<nav><a href=#method>method</a>{nav}<a href=#claims>claims</a>"
             "<a href=#provenance>provenance</a></nav>",
+            status.status_html(status.chapter_status(results, claims),
+                               status.optional_runs(results, decided, profile)),
             f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
             "declared deviation from the thesis's setup is in effect in the results it rests "
             "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
@@ -334,7 +338,7 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     with store.atomic_path(index) as tmp:
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
-        tmp.write_text(_summary_md(profile, sections, claims, results, power))
+        tmp.write_text(_summary_md(profile, sections, claims, results, power, decided))
     with store.atomic_path(outdir / "measurements.md") as tmp:
         tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index

@@ -1,0 +1,117 @@
+"""The per-section status (thesis.report.status): what ran, at which profile and commit,
+the verdict counts and the headline numbers beside the thesis's, generated from results
+and claims built inside the test, in summary.md and on the report's first screen."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import xarray as xr
+
+from thesis import claims as claims_mod
+from thesis import provenance
+from thesis.report import render, status
+from thesis.report.chapters import CHAPTERS
+
+from .test_render import _write_result, fake_chapter  # noqa: F401 (fixture)
+
+
+def _ds(profile="smoke", commit="abcdef1234567890", dirty=0, started="2026-01-02T03:04:05+00:00"):
+    return xr.Dataset({"x": ("seed", np.array([1.0]))},
+                      attrs={"profile": profile, "git_commit": commit, "git_dirty": dirty,
+                             "host": "box", "started": started})
+
+
+def _claim(cid, chapter, status_, section="§x", **extra):
+    return {"id": cid, "chapter": chapter, "section": section, "status": status_,
+            "reading": f"{status_.replace('_', ' ')} as stated", "paper": [],
+            "measured": {}, "departures": [], **extra}
+
+
+HEAD = {"id": "ch3.half_ellipse_fastest", "chapter": 3, "section": "§3.4",
+        "status": "inconclusive", "reading": "inconclusive under a declared deviation",
+        "paper": [{"key": "fig3_4/half_ellipse_max", "table": "Fig. 3.4",
+                   "row": "half ellipse", "column": "max speed", "value": 0.317,
+                   "unit": "m s-1"}],
+        "measured": {"advantage_mean": 0.0123, "advantage_ci_low": -0.01,
+                     "advantage_ci_high": 0.0345, "n_seeds": 3.0},
+        "departures": [], "perturbed": {"status": "reproduced"}, "fragile": True}
+
+
+def _claims():
+    return [HEAD,
+            _claim("ch3.other", 3, "reproduced", perturbed={"status": "reproduced"},
+                   native={"status": "not_reproduced"}, isa_dependent=True),
+            _claim("ch3.third", 3, "not_reproduced"),
+            _claim("ch5.x", 5, "not_run"),
+            _claim("ch8.coopt_y", 8, "reproduced", section="§8.2"),
+            _claim("ch8.ch3_z", 8, "inconclusive", section="§8.1")]
+
+
+def test_every_section_gets_a_row_with_what_ran_and_its_verdicts():
+    results = {"ch3/table3_1": _ds(), "ch3/fig3_4": _ds(commit="0123456789ab", dirty=1,
+                                                        started="2026-02-01T00:00:00+00:00"),
+               "coopt/arms": _ds(profile="default")}
+    rows = {s.chapter: s for s in status.chapter_status(results, _claims())}
+    assert list(rows) == [*CHAPTERS, "ch8"]
+    ch3 = rows["ch3"]
+    assert ch3.results == ["ch3/fig3_4", "ch3/table3_1"]
+    assert ch3.profiles == ["smoke"]
+    assert ch3.commits == ["0123456789+dirty", "abcdef1234"]
+    assert ch3.latest == "2026-02-01T00:00:00+00:00"
+    assert ch3.counts == {"reproduced": 1, "not_reproduced": 1, "inconclusive": 1}
+    assert (ch3.twinned, ch3.fragile, ch3.native, ch3.isa_dependent) == (2, 1, 1, 1)
+    assert ch3.headline is HEAD
+    # §8.2's claims count under coopt, §8.1's under the conclusions, none under ch2
+    assert rows["coopt"].counts == {"reproduced": 1} and rows["coopt"].profiles == ["default"]
+    assert rows["ch8"].counts == {"inconclusive": 1}
+    assert rows["ch5"].counts == {"not_run": 1} and not rows["ch5"].ran
+    assert rows["ch2"].counts == {} and rows["ch2"].results == [] and not rows["ch2"].ran
+
+
+def test_markdown_and_html_carry_the_numbers_read_from_claims():
+    rows = status.chapter_status({"ch3/table3_1": _ds()}, _claims())
+    optional = status.optional_runs({"ch5/table5_3_blocks": _ds()},
+                                    {"twin_runs": ["ch3/table3_1", "ch4/flat"]}, "smoke")
+    md = "\n".join(status.status_md(rows, optional))
+    line = next(x for x in md.splitlines() if x.startswith("| Chapter 3"))
+    assert "1 result (table3_1); profile smoke; commit abcdef1234" in line
+    assert "1 reproduced, 1 not reproduced, 1 inconclusive" in line
+    assert "1 of 2 fragile; 1 of 1 ISA-dependent" in line
+    assert "Fig. 3.4 half ellipse, max speed: 0.317 m/s" in line       # the thesis's
+    assert "advantage: 0.0123, 95 % interval [-0.01, 0.0345]" in line  # measured
+    assert "read for ch3, ch4" in md and "snakemake ch5_variants --config profile=smoke" in md
+    assert "| Tab. 5.3's selection-protocol variants" in md and "| not run |" in md
+    page = status.status_html(rows, optional)
+    assert re.findall(r'data-chapter="([^"]+)"', page) == [*CHAPTERS, "ch8"]
+    assert "0.317 m/s" in page and "[-0.01, 0.0345]" in page
+    assert "no results" in page  # ch2: nothing on disk
+
+
+def test_headlines_name_real_claims_and_sections():
+    ids = {c.id for c in claims_mod.CLAIMS}
+    assert set(status.HEADLINES.values()) <= ids, set(status.HEADLINES.values()) - ids
+    assert set(status.SECTIONS) == {*CHAPTERS, "ch8"}
+    for ch, cid in status.HEADLINES.items():
+        c = claims_mod.get(cid)
+        assert status._section_of({"chapter": c.chapter, "section": c.section}) == ch
+
+
+def test_report_first_screen_and_summary_start_with_the_status(tmp_path, fake_chapter):  # noqa: F811
+    results, out = tmp_path / "results", tmp_path / "reports"
+    _write_result(results)  # ch3/fig3_4, profile smoke, this checkout's commit
+    (results / "smoke" / "claims.json").write_text(json.dumps({"claims": _claims()}))
+    page = render.render_report("smoke", out, results_root=results).read_text()
+    first = page.index('<h2 id="status">')
+    assert first < page.index('<h2 id="method">') and first < page.index('<h2 id="ch2">')
+    assert page.index("<h2") == first  # the first section of the page
+    head = page[first:page.index('<h2 id="method">')]
+    assert re.findall(r'data-chapter="([^"]+)"', head) == [*CHAPTERS, "ch8"]
+    commit = provenance.git_commit()[:10]
+    assert f"profile smoke; commit {commit}" in head
+    summary = (out / "summary.md").read_text()
+    assert summary.index("## Status") < summary.index("## Method")
+    row = next(x for x in summary.splitlines() if x.startswith("| Chapter 3"))
+    assert "1 result (fig3_4)" in row and "0.317 m/s" in row
