@@ -18,7 +18,8 @@ from thesis.report.chapters import CHAPTERS
 from .test_render import _write_result, fake_chapter  # noqa: F401 (fixture)
 
 
-def _ds(profile="smoke", commit="abcdef1234567890", dirty=0, started="2026-01-02T03:04:05+00:00"):
+def _ds(profile="smoke", commit="abcdef1234567890", dirty=0,
+        started="2026-01-02T03:04:05+00:00"):
     return xr.Dataset({"x": ("seed", np.array([1.0]))},
                       attrs={"profile": profile, "git_commit": commit, "git_dirty": dirty,
                              "host": "box", "started": started})
@@ -99,7 +100,8 @@ def test_headlines_name_real_claims_and_sections():
         assert status._section_of({"chapter": c.chapter, "section": c.section}) == ch
 
 
-def test_report_first_screen_and_summary_start_with_the_status(tmp_path, fake_chapter):  # noqa: F811
+def test_report_first_screen_and_summary_start_with_the_status(
+        tmp_path, fake_chapter):  # noqa: F811
     results, out = tmp_path / "results", tmp_path / "reports"
     _write_result(results)  # ch3/fig3_4, profile smoke, this checkout's commit
     (results / "smoke" / "claims.json").write_text(json.dumps({"claims": _claims()}))

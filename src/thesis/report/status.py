@@ -165,7 +165,8 @@ def _what_ran(s: ChapterStatus) -> str:
     if not s.results:
         return "no results" if s.chapter != "ch8" else "reads the chapters' results"
     names = ", ".join(k.split("/", 1)[1] for k in s.results)
-    return (f"{len(s.results)} result{'' if len(s.results) == 1 else 's'} ({names}); profile {', '.join(s.profiles)}; "
+    plural = "" if len(s.results) == 1 else "s"
+    return (f"{len(s.results)} result{plural} ({names}); profile {', '.join(s.profiles)}; "
             f"commit {', '.join(s.commits)}"
             + (f"; host {', '.join(s.hosts)}" if s.hosts else "")
             + (f"; newest started {s.latest}" if s.latest else ""))
