@@ -89,6 +89,14 @@ def test_markdown_and_html_carry_the_numbers_read_from_claims():
     assert re.findall(r'data-chapter="([^"]+)"', page) == [*CHAPTERS, "ch8"]
     assert "0.317 m/s" in page and "[-0.01, 0.0345]" in page
     assert "no results" in page  # ch2: nothing on disk
+    assert "(<code>thesis.gaits, thesis.optim</code>)" in page  # the code behind ch3
+
+
+def test_long_result_lists_are_counted_not_listed():
+    results = {f"ch4/fig4_{i:02d}": _ds() for i in range(11)}
+    ch4 = next(s for s in status.chapter_status(results, []) if s.chapter == "ch4")
+    words = status._what_ran(ch4)
+    assert words.startswith("11 results (fig4_00, fig4_01,") and "fig4_07 and 3 more)" in words
 
 
 def test_headlines_name_real_claims_and_sections():

@@ -161,10 +161,16 @@ def chapter_status(results: Mapping[str, xr.Dataset],
     return out
 
 
+#: Result names listed per section in the status (the rest are counted).
+_NAMES_SHOWN = 8
+
+
 def _what_ran(s: ChapterStatus) -> str:
     if not s.results:
         return "no results" if s.chapter != "ch8" else "reads the chapters' results"
-    names = ", ".join(k.split("/", 1)[1] for k in s.results)
+    names = [k.split("/", 1)[1] for k in s.results]
+    names = ", ".join(names[:_NAMES_SHOWN]) + (
+        f" and {len(names) - _NAMES_SHOWN} more" if len(names) > _NAMES_SHOWN else "")
     plural = "" if len(s.results) == 1 else "s"
     return (f"{len(s.results)} result{plural} ({names}); profile {', '.join(s.profiles)}; "
             f"commit {', '.join(s.commits)}"
@@ -267,14 +273,16 @@ def status_html(rows: list[ChapterStatus],
         badges = " ".join(f"{V.status_html(st)} {n}" for st, n in s.counts.items()) \
             or '<span class="notrun">no claims</span>'
         cls = "" if s.ran else ' class="notrun"'
+        what, code = SECTIONS.get(s.chapter, ("", ""))
         body.append(
             f'<tr data-chapter="{html.escape(s.chapter)}">'
             f'<td><a href="#{html.escape(s.chapter)}">{html.escape(s.title)}</a><br>'
-            f'<span class="note">{html.escape(SECTIONS.get(s.chapter, ("", ""))[0])}</span>'
+            f'<span class="note">{html.escape(what)} (<code>{html.escape(code)}</code>)</span>'
             f"</td><td{cls}>{html.escape(_what_ran(s))}</td><td>{badges}</td>"
             f"<td>{html.escape(_twin_words(s))}</td>"
-            f"<td><code>{html.escape(head)}</code><br><b>thesis</b> {html.escape(thesis)}"
-            f"<br><b>measured</b> {html.escape(measured)}</td></tr>")
+            + (f"<td><code>{html.escape(head)}</code><br><b>thesis</b> {html.escape(thesis)}"
+               f"<br><b>measured</b> {html.escape(measured)}</td></tr>"
+               if s.headline is not None else "<td>—</td></tr>"))
     table = ('<h2 id="status">Status</h2><p class="note">Generated from the results on '
              "disk and <code>claims.json</code>; each section below holds the tables, "
              "figures and claims behind its row.</p>"
