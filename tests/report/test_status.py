@@ -125,3 +125,25 @@ def test_report_first_screen_and_summary_start_with_the_status(
     assert summary.index("## Status") < summary.index("## Method")
     row = next(x for x in summary.splitlines() if x.startswith("| Chapter 3"))
     assert "1 result (fig3_4)" in row and "0.317 m/s" in row
+
+
+def test_per_run_twin_flips_and_twin_verdicts_are_read_from_data():
+    flipped = xr.Dataset({"flipped": (("config", "seed"),
+                                      np.array([[1.0, 0.0, 0.0], [0.0, 1.0, np.nan]]))})
+    results = {"ch6/trot": flipped.assign_attrs(_ds().attrs),
+               "ch6/walk": xr.Dataset({"flipped": ("seed", np.array([1.0, 0.0]))},
+                                      attrs=_ds().attrs)}
+    claims = [_claim("ch6.a", 6, "reproduced", perturbed={"status": "not_reproduced"},
+                     fragile=True),
+              _claim("ch6.b", 6, "inconclusive", native={"status": "inconclusive"}),
+              _claim("ch6.c", 6, "not_run")]
+    ch6 = next(s for s in status.chapter_status(results, claims) if s.chapter == "ch6")
+    assert (ch6.runs_twinned, ch6.runs_flipped) == (7, 3)  # NaN: not run
+    assert "the per-run twins change 3 of 7 run outcomes" in status._twin_words(ch6)
+    md = "\n".join(status.twin_verdicts_md(claims))
+    assert "| `ch6.a` | reproduced | not reproduced | — | fragile |" in md
+    assert "| `ch6.b` | inconclusive | — | inconclusive | holds |" in md
+    assert "ch6.c" not in md
+    page = status.twin_verdicts_html(claims)
+    assert "(2 claims)" in page and 'class="fragile">fragile' in page
+    assert status.twin_verdicts_md([claims[2]]) == [] and status.twin_verdicts_html([]) == ""

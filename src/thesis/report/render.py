@@ -259,6 +259,7 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict],
     lines += ["## Method", "", "Per seed; mean over seeds with its 95 % Student t interval; "
               "'reproduced' only at a one-sided 2.5 % (thesis.claims.stats, calibrated by "
               "thesis.claims.calibration).", ""] + _power_md(power)
+    lines += status.twin_verdicts_md(claims)
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not s.tables and not s.figures:
@@ -306,7 +307,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             "declared deviation from the thesis's setup is in effect in the results it rests "
             "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
             V.method_html(power), V.fragility_html(claims, decided.get("twin_runs"),
-                                                  decided.get("native_runs"))]
+                                                  decided.get("native_runs")),
+            status.twin_verdicts_html(claims)]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:

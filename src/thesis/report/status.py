@@ -13,6 +13,10 @@ one :class:`ChapterStatus`, generated from what is on disk, never typed:
   for the chapter, not a result), its verdict with the thesis's numbers beside the
   measured ones, both read from ``claims.json``.
 
+Chapter 6's runs carry their own perturbed twins: the status counts the runs whose
+outcome the twin changed (their ``flipped`` variable). :func:`twin_verdicts_md` lists every
+claim decided again on twin runs with its verdict on each (method section).
+
 Beside it, :func:`optional_runs` says which of the runs outside ``make all`` (the twin
 runs, Tab. 5.3's protocol variants, the MuJoCo/MJX peers, the Oncilla's model checks)
 are on disk, with the command that makes each. The README points here instead of
@@ -25,13 +29,15 @@ import html
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+import numpy as np
 import xarray as xr
 
 from thesis.report import verdicts as V
 from thesis.report.chapters import CHAPTERS
 
 __all__ = ["HEADLINES", "SECTIONS", "STATUS_ORDER", "ChapterStatus", "chapter_status",
-           "optional_runs", "status_md", "status_html"]
+           "optional_runs", "status_md", "status_html", "twin_verdicts_md",
+           "twin_verdicts_html"]
 
 #: Verdict statuses in the order the status table counts them.
 STATUS_ORDER = ("reproduced", "not_reproduced", "inconclusive", "not_run")
@@ -90,6 +96,9 @@ class ChapterStatus:
         counts: verdict status -> number of the section's claims.
         twinned, fragile: claims decided again on perturbed twin runs; of those, moved.
         native, isa_dependent: claims decided again on native twin runs; of those, moved.
+        runs_twinned, runs_flipped: runs that carry their own perturbed twin (chapter 6,
+            the ``flipped`` variable of :mod:`thesis.embodied.twins`); of those, the runs
+            whose outcome the twin changed.
         headline: the headline claim's entry of ``claims.json`` (None when absent).
     """
 
@@ -105,6 +114,8 @@ class ChapterStatus:
     fragile: int = 0
     native: int = 0
     isa_dependent: int = 0
+    runs_twinned: int = 0
+    runs_flipped: int = 0
     headline: dict | None = None
 
     @property
@@ -127,6 +138,16 @@ def _commit(ds: xr.Dataset) -> str:
     return str(ds.attrs.get("git_commit", "?"))[:10] + ("+dirty" if dirty else "")
 
 
+def _flips(dss: list[xr.Dataset]) -> tuple[int, int]:
+    """(runs with a per-run twin, runs whose outcome it changed) over the datasets'
+    ``flipped`` variables (1 where the twin's outcome differs; NaN where not run)."""
+    flags = [np.asarray(d["flipped"].values, dtype=float).ravel()
+             for d in dss if "flipped" in d.data_vars]
+    flags = np.concatenate(flags) if flags else np.zeros(0)
+    flags = flags[np.isfinite(flags)]
+    return int(flags.size), int((flags > 0.5).sum())
+
+
 def chapter_status(results: Mapping[str, xr.Dataset],
                    claims: list[dict]) -> list[ChapterStatus]:
     """One :class:`ChapterStatus` per report section, in report order, §8.1 last.
@@ -145,6 +166,7 @@ def chapter_status(results: Mapping[str, xr.Dataset],
         for c in sel:
             s = str(c.get("status", "not_run"))
             counts[s] = counts.get(s, 0) + 1
+        runs_twinned, runs_flipped = _flips(dss)
         out.append(ChapterStatus(
             chapter=ch, title=title, results=keys,
             profiles=sorted({str(d.attrs.get("profile", "?")) for d in dss}),
@@ -157,6 +179,7 @@ def chapter_status(results: Mapping[str, xr.Dataset],
             fragile=sum(bool(c.get("fragile")) for c in sel),
             native=sum("native" in c for c in sel),
             isa_dependent=sum(bool(c.get("isa_dependent")) for c in sel),
+            runs_twinned=runs_twinned, runs_flipped=runs_flipped,
             headline=by_id.get(HEADLINES.get(ch))))
     return out
 
@@ -190,6 +213,9 @@ def _twin_words(s: ChapterStatus) -> str:
     parts = [f"{s.fragile} of {s.twinned} fragile" if s.twinned else "no perturbed twins",
              f"{s.isa_dependent} of {s.native} ISA-dependent" if s.native
              else "no native twins"]
+    if s.runs_twinned:
+        parts.append(f"the per-run twins change {s.runs_flipped} of {s.runs_twinned} "
+                     "run outcomes")
     return "; ".join(parts)
 
 
@@ -298,3 +324,48 @@ def status_html(rows: list[ChapterStatus],
                       f"<td>{html.escape(h)}</td></tr>" for w, c, h in optional)
                   + "</tbody></table>")
     return table
+
+
+def _twin_rows(claims: list[dict]) -> list[tuple[str, str, str, str, str]]:
+    """(claim id, verdict on the runs, on perturbed twins, on native twins, what moved)
+    for every claim decided again on twin runs."""
+    rows = []
+    for c in claims:
+        if "perturbed" not in c and "native" not in c:
+            continue
+
+        def words(d):
+            return str(d.get("status", "")).replace("_", " ") if d else "—"
+        moved = [w for w, flag in (("fragile", "fragile"), ("ISA-dependent", "isa_dependent"))
+                 if c.get(flag)]
+        rows.append((str(c.get("id", "")), words(c), words(c.get("perturbed")),
+                     words(c.get("native")), ", ".join(moved) or "holds"))
+    return rows
+
+
+def twin_verdicts_md(claims: list[dict]) -> list[str]:
+    """Markdown table of every claim decided again on twin runs: its verdict on the runs,
+    on the perturbed and on the native twins (empty when no claim has twins)."""
+    rows = _twin_rows(claims)
+    if not rows:
+        return []
+    return (["### Verdicts on the twin runs", "",
+             "| claim | runs | perturbed twins | native twins | |", "|---|---|---|---|---|"]
+            + [f"| `{r[0]}` | " + " | ".join(r[1:]) + " |" for r in rows] + [""])
+
+
+def twin_verdicts_html(claims: list[dict]) -> str:
+    """The table of :func:`twin_verdicts_md` as HTML, folded away (it lists every claim
+    with twins); "" when no claim has twins."""
+    rows = _twin_rows(claims)
+    if not rows:
+        return ""
+    body = "".join(
+        f"<tr><td><code>{html.escape(r[0])}</code></td>"
+        + "".join(f"<td>{html.escape(x)}</td>" for x in r[1:4])
+        + f'<td class="{"fragile" if r[4] != "holds" else "note"}">{html.escape(r[4])}</td></tr>'
+        for r in rows)
+    return ("<details><summary>Verdicts of every claim on the runs and on their twins "
+            f"({len(rows)} claims)</summary><div class=\"wide\"><table><thead><tr>"
+            "<th>claim</th><th>runs</th><th>perturbed twins</th><th>native twins</th>"
+            f"<th>moved</th></tr></thead><tbody>{body}</tbody></table></div></details>")
