@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import json
 import re
+from datetime import datetime, timezone
 
 import numpy as np
 import xarray as xr
 
 from thesis import claims as claims_mod
-from thesis import provenance
+from thesis import provenance, store
 from thesis.report import render, status
 from thesis.report.chapters import CHAPTERS
 
@@ -147,3 +148,26 @@ def test_per_run_twin_flips_and_twin_verdicts_are_read_from_data():
     page = status.twin_verdicts_html(claims)
     assert "(2 claims)" in page and 'class="fragile">fragile' in page
     assert status.twin_verdicts_md([claims[2]]) == [] and status.twin_verdicts_html([]) == ""
+
+
+def test_twin_runs_tables_stand_after_the_chapters(tmp_path, fake_chapter):  # noqa: F811
+    """A chapter's tables are rendered from results/<profile>-native/ by its own table code
+    (the numbers a native run moves), after the chapters, in the page and summary.md."""
+    results, out = tmp_path / "results", tmp_path / "reports"
+    _write_result(results)  # speeds 0.25, 0.35: mean 0.300
+    twin = xr.Dataset({"speed": xr.DataArray(np.array([0.41, 0.43]), dims="seed",
+                                             attrs={"units": "m s-1", "long_name": "speed"})},
+                      coords={"seed": [0, 1]}, attrs={"thesis_ref": "Fig. 3.4", "seeds": [0, 1]})
+    store.write_dataset(twin, results / "smoke-native" / "ch3" / "fig3_4.nc",
+                        profile="smoke", experiment="ch3/fig3_4", config_slice={},
+                        wall_seconds=1.0, started=datetime.now(timezone.utc))
+    assert [(k, n, [s.chapter for s in secs]) for k, n, secs
+            in render.twin_sections("smoke", results)] == [("native", "smoke-native", ["ch3"])]
+    page = render.render_report("smoke", out, results_root=results).read_text()
+    twins = page[page.index('<h2 id="twins-native">'):page.index('<h2 id="claims">')]
+    assert "0.420" in twins and "0.300" not in twins and 'id="native-fig3_4"' in twins
+    assert "0.420" not in page[:page.index('<h2 id="twins-native">')]
+    assert "twins-perturbed" not in page  # no perturbed twin runs on disk
+    summary = (out / "summary.md").read_text()
+    tail = summary[summary.index("## Tables of the native twin runs"):]
+    assert "results/smoke-native/" in tail and "| sine | 0.420 |" in tail
