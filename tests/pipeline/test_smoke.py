@@ -19,6 +19,7 @@ import pytest
 
 from thesis import regression, store
 from thesis.config import load_config
+from thesis.report.chapters import CHAPTERS
 
 from ..ch2_chance import better_than_chance
 from . import layouts_ch2, layouts_ch3, layouts_ch7, layouts_coopt
@@ -202,8 +203,12 @@ window.addEventListener('load', function () {
   var ok = imgs.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
   var d = document.createElement('div');
   d.id = 'imgcheck';
+  var shown = Array.from(document.querySelectorAll('#status ~ table tr[data-chapter]'))
+    .filter(function (r) { return r.getBoundingClientRect().height > 0; })
+    .map(function (r) { return r.dataset.chapter; });
   d.textContent = 'IMAGES ' + ok + '/' + imgs.length + ' H2 ' +
-                  document.querySelectorAll('h2').length;
+                  document.querySelectorAll('h2').length + ' FIRST ' +
+                  document.querySelector('h2').id + ' STATUS ' + shown.join(',') + ' END';
   document.body.appendChild(d);
 });
 </script>
@@ -239,6 +244,10 @@ def test_report_renders_and_all_images_load(smoke_run, tmp_path):
     assert ok == total
     assert total == page.count("<img ")
     assert h2 >= 7  # six chapters and the claims
+    # the first screen: the generated status, one visible row per report section
+    status = re.search(r"FIRST (\S+) STATUS (\S*) END", dom.stdout)
+    assert status and status.group(1) == "status", dom.stdout[-500:]
+    assert status.group(2).split(",") == [*CHAPTERS, "ch8"]
     shot = tmp_path / "shot.png"
     subprocess.run([chromium, *FLAGS, f"--user-data-dir={profile_dir}",
                     f"--screenshot={shot}", "--window-size=1200,2000", index.as_uri()],

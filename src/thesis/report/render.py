@@ -5,7 +5,9 @@
 - :func:`render_report`: reads the results, ``claims.json``, the rules' power table
   (``claims_power.json``, shown in the method section) and the figure manifests and
   writes ``index.html`` (self-contained: figures inlined as PNG data URIs),
-  ``summary.md`` and ``tables/<ch>_<table>.html`` (for ``snakemake --report``).
+  ``summary.md`` and ``tables/<ch>_<table>.html`` (for ``snakemake --report``); it opens
+  on the generated status (:mod:`thesis.report.status`) and ends the chapters with their
+  tables as the perturbed and native twin runs give them (:func:`twin_sections`).
 
 Nothing here computes a result: every number shown is read from a results file or from
 :mod:`thesis.paper`; what is missing is shown as "not run".
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import base64
 import csv
+import dataclasses
 import html
 import importlib
 import json
@@ -23,7 +26,7 @@ from pathlib import Path
 
 from thesis import provenance, store
 from thesis.report.chapters import CHAPTERS
-from thesis.report import measurements
+from thesis.report import measurements, status
 from thesis.report import verdicts as V
 from thesis.report.model import NOT_RUN, Figure, Section, Table
 
@@ -108,6 +111,70 @@ def build_sections(results: dict, outdir: Path) -> list[Section]:
         sections.append(Section(chapter=ch, title=title, tables=tables,
                                 figures=_load_manifest(outdir, ch)))
     return sections
+
+
+#: Kinds of twin run whose tables the report shows after the chapters: (kind, the
+#: ``thesis.store.results_name`` keyword naming its results folder).
+TWIN_KINDS = (("perturbed", "perturbed"), ("native", "native"))
+
+
+def twin_sections(profile: str, results_root: Path = store.RESULTS_DIR
+                  ) -> list[tuple[str, str, list[Section]]]:
+    """The chapters' tables as the twin runs on disk give them: per kind of twin run
+    (perturbed: ``--config perturb=1e-7``, native: ``--config isa=native``) with results
+    under ``results/<profile>-<kind>/``, (kind, that folder's name, one tables-only
+    :class:`Section` per chapter with twin results). Read from those datasets by the same
+    chapter modules as the runs' own tables, so the numbers a twin run moves (not only the
+    verdicts) stand beside the runs'; a cell without a twin result shows "not run"."""
+    out = []
+    for kind, flag in TWIN_KINDS:
+        name = store.results_name(profile, **{flag: True})
+        twins = store.load_results(name, results_root)
+        sections = []
+        for ch, title in CHAPTERS.items():
+            mod = _chapter_module(ch)
+            chapter = _chapter_results(twins, ch)
+            if mod is not None and chapter:
+                tables = [dataclasses.replace(t, id=f"{kind}-{t.id}")
+                          for t in mod.tables(chapter)]
+                sections.append(Section(chapter=ch, title=title, tables=tables))
+        if sections:
+            out.append((kind, name, sections))
+    return out
+
+
+def _twin_html(twins: list[tuple[str, str, list[Section]]]) -> str:
+    """The tables of :func:`twin_sections`, one folded part per chapter."""
+    parts = []
+    for kind, name, sections in twins:
+        parts.append(f'<h2 id="twins-{kind}">Tables of the {kind} twin runs</h2>'
+                     f'<p class="note">Read from <code>results/{html.escape(name)}/</code> by '
+                     "the chapters' own table code; the verdicts they move are in the method "
+                     'section (<a href="#fragility">fragility</a>).</p>')
+        parts += [f"<details><summary>{html.escape(s.title)}</summary>"
+                  + "".join(_table_html(t) for t in s.tables) + "</details>" for s in sections]
+    return "".join(parts)
+
+
+def _twin_md(twins: list[tuple[str, str, list[Section]]]) -> list[str]:
+    """The tables of :func:`twin_sections` as Markdown lines."""
+    lines = []
+    for kind, name, sections in twins:
+        lines += [f"## Tables of the {kind} twin runs", "",
+                  f"Read from `results/{name}/` by the chapters' own table code.", ""]
+        for s in sections:
+            lines += [f"### {s.title}", ""]
+            for t in s.tables:
+                lines += _table_md(t, "####")
+    return lines
+
+
+def _table_md(t: Table, level: str = "###") -> list[str]:
+    """A :class:`Table` as Markdown lines under a heading of ``level``."""
+    lines = [f"{level} {t.title} ({t.thesis_ref})", "",
+             "| " + " | ".join(t.columns) + " |", "|" + "---|" * len(t.columns)]
+    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t.rows]
+    return lines + [""] + ([t.note, ""] if t.note else [])
 
 
 def _table_html(t: Table) -> str:
@@ -247,8 +314,11 @@ def _section_claims(claims: list[dict], ch: str) -> list[dict]:
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
-                results: dict, power: dict | None = None) -> str:
+                results: dict, power: dict | None = None, decided: dict | None = None,
+                twins: list | None = None) -> str:
     lines = [f"# Thesis reproduction — profile `{profile}`", ""]
+    lines += status.status_md(status.chapter_status(results, claims),
+                              status.optional_runs(results, decided or {}, profile))
     lines += ["Claims: " + ", ".join(f"{k} {v}" for k, v in V.counts(claims).items()), "",
               "A verdict is *as stated* when no declared deviation from the thesis's setup is "
               "in effect in the results it rests on, and *under a declared deviation* "
@@ -257,16 +327,13 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict],
     lines += ["## Method", "", "Per seed; mean over seeds with its 95 % Student t interval; "
               "'reproduced' only at a one-sided 2.5 % (thesis.claims.stats, calibrated by "
               "thesis.claims.calibration).", ""] + _power_md(power)
+    lines += status.twin_verdicts_md(claims)
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not s.tables and not s.figures:
             lines += [f"_{NOT_RUN}_", ""]
         for t in s.tables:
-            lines += [f"### {t.title} ({t.thesis_ref})", "",
-                      "| " + " | ".join(t.columns) + " |",
-                      "|" + "---|" * len(t.columns)]
-            lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t.rows]
-            lines += [""] + ([t.note, ""] if t.note else [])
+            lines += _table_md(t)
         claim_lines = V.summary_lines(_section_claims(claims, s.chapter),
                                       _chapter_number(s.chapter))
         if claim_lines:
@@ -275,6 +342,7 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict],
     conclusions = V.summary_lines(_section_claims(claims, "ch8"), 8)
     if conclusions:
         lines += ["## §8.1 — Conclusions", "", *conclusions, ""]
+    lines += _twin_md(twins or [])
     return "\n".join(lines)
 
 
@@ -298,11 +366,14 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
             f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
             f"<nav><a href=#method>method</a>{nav}<a href=#claims>claims</a>"
             "<a href=#provenance>provenance</a></nav>",
+            status.status_html(status.chapter_status(results, claims),
+                               status.optional_runs(results, decided, profile)),
             f"<p>Claims: {verdicts or 'none evaluated'}. A verdict is <i>as stated</i> when no "
             "declared deviation from the thesis's setup is in effect in the results it rests "
             "on, <i>under a declared deviation</i> otherwise; each verdict lists them.</p>",
             V.method_html(power), V.fragility_html(claims, decided.get("twin_runs"),
-                                                  decided.get("native_runs"))]
+                                                  decided.get("native_runs")),
+            status.twin_verdicts_html(claims)]
     tables_dir = outdir / "tables"
     tables_dir.mkdir(parents=True, exist_ok=True)
     for s in sections:
@@ -324,6 +395,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     conclusions = V.claims_html(_section_claims(claims, "ch8"), 8)
     if conclusions:
         body.append('<h2 id="ch8">§8.1 — Conclusions</h2>' + conclusions)
+    twins = twin_sections(profile, results_root)
+    body.append(_twin_html(twins))
     body.append('<h2 id="claims">All claims</h2>')
     all_claims = V.claims_html(claims) or f'<p class="notrun">{NOT_RUN}</p>'
     body.append(all_claims)
@@ -334,7 +407,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     with store.atomic_path(index) as tmp:
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
-        tmp.write_text(_summary_md(profile, sections, claims, results, power))
+        tmp.write_text(_summary_md(profile, sections, claims, results, power, decided,
+                                  twins))
     with store.atomic_path(outdir / "measurements.md") as tmp:
         tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index
