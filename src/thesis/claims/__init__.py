@@ -113,7 +113,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
              native: tuple[Mapping[str, xr.Dataset], set] | None = None
              ) -> dict[str, object]:
     """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
-    units of the variables it reads (``units``), the departures of the results it rests on
+    units of the variables it reads (``units``), the units the claim declares for the
+    numbers it reports (``measured_units``, :attr:`Claim.units`; empty when it reports the
+    variables in their own units), the departures of the results it rests on
     (``departures``, each with ``in_effect``) and its ``reading``
     (:func:`thesis.claims.basis.reading`). Where every result the claim requires carries
     perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
@@ -128,6 +130,7 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         "id": claim.id, "chapter": claim.chapter, "section": claim.section,
         "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
         "reads": list(claim.reads), "units": _units(claim.reads, results),
+        "measured_units": dict(claim.units),
         "paper": [_paper_entry(k) for k in claim.paper_keys],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,

@@ -21,7 +21,7 @@ CLAIMS: tuple[Claim, ...] = (
         paper_keys=tuple(f"table2_2/model={m}/d={d}/transform={t}/test_error"
                          for m in ("ffn_spn", "rnn_spn") for d in (1, 2, 3)
                          for t in ("chirp_z", "none")),
-        requires=(ch2.KEY,), reads=ch2.READS,
+        requires=(ch2.KEY,), reads=ch2.READS, units=ch2.MEASURED_UNITS,
         fn=lambda r: ch2.spatial_beats_plain(r, ["chirp_z"]),
     ),
     Claim(
