@@ -217,8 +217,7 @@ def best_speed_gains(results: Results) -> Verdict:
     for key, cond in zip(_GAINS, ("grade9", "grade18", "compliant")):
         a, b = runs[cond]
         pub = float(paper.get(key).value) / 100.0
-        margin = float(min(np.log1p((1 + tol) * pub) - np.log1p(pub),
-                           np.log1p(pub) - np.log1p((1 - tol) * pub)))
+        margin = sentences.gain_log_margin(pub, tol)
         v = sentences.decide_ratio_like(a, b, target=1.0 + pub, margin=margin,
                                         label="speed_ratio")
         gm = v.measured

@@ -40,9 +40,14 @@ CLAIMS: tuple[Claim, ...] = (
         id="ch8.ch3_scapulae_help_maintain_speed", chapter=8, section="§8.1",
         quote="Secondly, we showed that having scapulae for turning helps maintain speed, "
               "although it is also possible for legged robots to turn without.",
-        summary="Turning speed with the scapulae exceeds that of step-size turning (rule 4).",
-        paper_keys=("table3_2/strategy=step_size/speed", "table3_2/strategy=scapulae/speed"),
-        requires=(ch3.TURN,), reads=(f"{ch3.TURN}:speed",), fn=ch3.scapulae_keep_speed,
+        summary="Turning with the scapulae is faster than step-size turning (rule 4) and "
+                "keeps the straight-line speed (as ch3.scapulae_maintain_speed), and a stable "
+                "step-size turn happened in some seed ('possible to turn without': existence).",
+        paper_keys=("table3_2/strategy=step_size/speed", "table3_2/strategy=scapulae/speed",
+                    "table3_2/forward_speed"),
+        requires=(ch3.TURN,), reads=(f"{ch3.TURN}:speed", f"{ch3.TURN}:forward_speed",
+                                     f"{ch3.TURN}:stable"),
+        fn=ch3.scapulae_help_keep_speed,
     ),
     Claim(
         id="ch8.ch4_transfer_better_except_rocky", chapter=8, section="§8.1",

@@ -79,6 +79,16 @@ def log_margin(tolerance: float) -> float:
     return float(min(np.log1p(tolerance), -np.log1p(-tolerance)))
 
 
+def gain_log_margin(gain: float, tolerance: float = stats.PUBLISHED_TOLERANCE) -> float:
+    """The log margin about ``log(1 + gain)`` of a published relative gain (0.09 for "9 %
+    faster") whose *gain* is allowed the relative ``tolerance``: the band
+    ``[(1 - t) gain, (1 + t) gain]`` on the ratio ``1 + gain``, its smaller log side."""
+    if not gain > 0:
+        raise ValueError(f"a published gain must be positive, got {gain}")
+    return float(min(np.log1p((1 + tolerance) * gain) - np.log1p(gain),
+                     np.log1p(gain) - np.log1p((1 - tolerance) * gain)))
+
+
 def decide_ratio_like(num, den, *, target: float = 1.0,
                       tolerance: float = stats.PUBLISHED_TOLERANCE, label: str = "ratio",
                       margin: float | None = None) -> Verdict:
