@@ -90,9 +90,14 @@ def test_turning_claims():
                 "ch3.three_turning_strategies_fail", "ch8.ch3_scapulae_help_maintain_speed"):
         assert check(cid, table3_2=ds).status == "reproduced", cid
     no_turn = ds.copy(deep=True)
-    no_turn["angular_speed"].loc[{"strategy": "step_size"}] = [0.3, -0.3, 0.2, -0.2]
+    no_turn["stable"].loc[{"strategy": "step_size"}] = 0.0
     assert check("ch3.turning_without_scapulae_possible", table3_2=no_turn).status == (
-        "inconclusive")
+        "not_reproduced")
+    # 'possible' is existence: one stable step-size turn of four seeds is enough
+    once = ds.copy(deep=True)
+    once["stable"].loc[{"strategy": "step_size"}] = [1.0, 0.0, 0.0, 0.0]
+    v = check("ch3.turning_without_scapulae_possible", table3_2=once)
+    assert v.status == "reproduced" and v.measured["turns.rate"] == 0.25
     slow = table3_2(scap_speed=0.03)
     assert check("ch3.scapulae_maintain_speed", table3_2=slow).status == "not_reproduced"
     two = ds.sel(strategy=["step_size", "scapulae"])
@@ -140,7 +145,7 @@ def test_maintain_speed_is_against_straight_line_speed():
     "maintain its speed"; §8.1's version also needs a turn without scapulae to exist."""
     half = table3_2(forward_speed=0.44)
     v = check("ch3.scapulae_maintain_speed", table3_2=half)
-    assert v.status == "not_reproduced"
+    assert v.status == "not_reproduced" and v.measured["rate"] == 0.0
     assert check("ch8.ch3_scapulae_help_maintain_speed", table3_2=half).status == (
         "not_reproduced")
     never = table3_2()
