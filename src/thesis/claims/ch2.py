@@ -196,7 +196,8 @@ CLAIMS: tuple[Claim, ...] = (
                 "way (rule 5 on its log), once every compared cell is better than chance. "
                 "The thesis's own table gives 1.51.",
         paper_keys=_cells(["bilinear", "chirp_z"]),
-        requires=(KEY,), reads=READS, units=MEASURED_UNITS, fn=lambda r: chirpz_similar(r, "bilinear"),
+        requires=(KEY,), reads=READS, units=MEASURED_UNITS,
+        fn=lambda r: chirpz_similar(r, "bilinear"),
     ),
     Claim(
         id="ch2.chirpz_reaches_1_8_percent", chapter=2, section="§2.5",

@@ -191,7 +191,8 @@ CLAIMS: tuple[Claim, ...] = (
         quote=_COOPT,
         summary="Beyond the sentence (issue 42's hypothesis; the sentence itself is "
                 "ch8.coopt_joint_optimisation_possible): within the same budget of gradient "
-                "evaluations, controller and body optimised together end faster than the controller alone on the built body "
+                "evaluations, controller and body optimised together end faster than the "
+                "controller alone on the built body "
                 "(final speed from the nominal start, paired by seed, rule 4).",
         requires=(ARMS,), reads=(f"{ARMS}:final_speed",),
         fn=lambda r: _beats(r, "final_speed", "joint", "controller"),
