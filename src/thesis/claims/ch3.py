@@ -409,7 +409,9 @@ CLAIMS: tuple[Claim, ...] = (
         paper_keys=("table3_2/strategy=step_size/turning_radius",
                     "table3_2/strategy=scapulae/turning_radius",
                     "table3_2/strategy=scapulae/turning_radius_increase"),
-        requires=(TURN,), reads=(f"{TURN}:turning_radius",), fn=scapulae_larger_radius,
+        requires=(TURN,), reads=(f"{TURN}:turning_radius",),
+        units={"increase_percent": "percent", "ratio": "1 (a ratio of radii; its log is decided)"},
+        fn=scapulae_larger_radius,
     ),
     Claim(
         id="ch3.three_turning_strategies_fail", chapter=3, section="§3.3.2.2-§3.3.2.4",
