@@ -8,20 +8,14 @@ when so few errors are improbable by chance: P(X <= k | n_test, 0.9) < ``alpha``
 
 from __future__ import annotations
 
-import numpy as np
-from scipy.stats import binomtest
+from thesis.claims.sentences import CHANCE_ERROR
+from thesis.claims.sentences import better_than_chance as _better_than_chance
 
-CHANCE_ERROR = 0.9
 ALPHA = 1e-3
 
 
-def better_than_chance(errors, n_test: int, alpha: float = ALPHA) -> np.ndarray:
+def better_than_chance(errors, n_test: int, alpha: float = ALPHA):
     """Boolean array like ``errors`` (per-digit error rates of cells tested on ``n_test``
-    sequences): True where the cell's error is significantly below :data:`CHANCE_ERROR`."""
-    err = np.asarray(errors, dtype=float)
-    out = np.zeros(err.shape, bool)
-    for i, e in np.ndenumerate(err):
-        if np.isfinite(e):
-            k = int(round(e * n_test))
-            out[i] = binomtest(k, n_test, CHANCE_ERROR, alternative="less").pvalue < alpha
-    return out
+    sequences): True where the cell's error is significantly below :data:`CHANCE_ERROR`
+    (:func:`thesis.claims.sentences.better_than_chance` at this module's stricter level)."""
+    return _better_than_chance(errors, n_test, alpha=alpha)

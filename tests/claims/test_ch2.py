@@ -14,10 +14,10 @@ TRANSFORMS = ["bilinear", "bilinear_no_skew", "chirp_z", "none"]
 
 
 #: the thesis's training set and Tab. 2.1 widths (the scale the 1.8 % claim is tested at)
-THESIS_SCALE = {"n_train": 60000, "widths": json.dumps({
+THESIS_SCALE = {"n_train": 60000, "n_test": 10000, "widths": json.dumps({
     "ffn_spn": {"loc_filters": 20, "loc_dense": 200, "cls_filters": 96, "cls_dense": 400},
     "rnn_spn": {"loc_filters": 20, "gru_units": 256, "cls_filters": 32, "cls_dense": 400}})}
-LAPTOP_SCALE = {"n_train": 8000, "widths": json.dumps({
+LAPTOP_SCALE = {"n_train": 8000, "n_test": 1000, "widths": json.dumps({
     "ffn_spn": {"loc_filters": 8, "loc_dense": 64, "cls_filters": 8, "cls_dense": 64},
     "rnn_spn": {"loc_filters": 8, "gru_units": 64, "cls_filters": 8, "cls_dense": 64}})}
 
@@ -129,7 +129,7 @@ def test_thesis_own_table_against_its_claims():
     da = xr.DataArray(err, dims=("seed", "model", "d", "transform"),
                       coords={"model": MODELS, "d": [1, 2, 3], "transform": TRANSFORMS},
                       attrs={"units": "percent", "long_name": "per-digit test error"})
-    ds = xr.Dataset({"test_error": da})
+    ds = xr.Dataset({"test_error": da}, attrs={"n_test": 10000})
     expected = {"ch2.spatial_transformers_beat_plain": "reproduced",
                 "ch2.chirpz_similar_to_bilinear_no_skew": "reproduced",
                 "ch2.chirpz_reaches_1_8_percent": "reproduced",
@@ -137,3 +137,53 @@ def test_thesis_own_table_against_its_claims():
                 "ch2.chirpz_similar_to_bilinear": "not_reproduced"}
     for cid, want in expected.items():
         assert status(cid, ds).status == want, cid
+
+
+def test_similarity_at_chance_is_inconclusive():
+    """Every network at 90 % per-digit error (chance among 10 digits) is "similar" to every
+    other; that says nothing about the transforms, so both similarity claims are
+    inconclusive, whichever way the comparison alone would go."""
+    chance = {t: 0.9 for t in TRANSFORMS}
+    for cid in ("ch2.chirpz_similar_to_bilinear_no_skew", "ch2.chirpz_similar_to_bilinear"):
+        v = status(cid, table2_2(chance, rnn_gain=0.0, noise=0.0))
+        assert v.status == "inconclusive", cid
+        assert v.measured["cells_better_than_chance"] == 0 and "chance" in v.detail
+    # one compared cell at chance is enough to withhold the verdict
+    ds = table2_2(GOOD)
+    ds["test_error"].loc[{"seed": 0, "model": "ffn_spn", "d": 1, "transform": "chirp_z"}] = 0.9
+    assert status("ch2.chirpz_similar_to_bilinear_no_skew", ds).status == "inconclusive"
+    # without the number of test sequences no cell can be shown above chance
+    bare = table2_2(GOOD, scale={})
+    assert status("ch2.chirpz_similar_to_bilinear_no_skew", bare).status == "inconclusive"
+
+
+def test_similarity_is_decided_on_the_log_ratio():
+    """A ratio is decided on its logarithm: chirp-Z errors at 0.8 x the other's on some
+    seeds and 1.25 x on others (log-symmetric, geometric mean 1) are alike within the
+    25 % tolerance on the log scale, while the raw relative difference (mean +2.5 %, wide
+    and skewed) decided them on a skewed scale."""
+    ds = table2_2(GOOD, seeds=6, noise=0.0)
+    ratio = np.array([0.8, 1.25, 0.8, 1.25, 0.8, 1.25])[:, None, None]
+    other = ds["test_error"].sel(transform="bilinear_no_skew")
+    ds["test_error"].loc[{"transform": "chirp_z"}] = other * ratio
+    v = status("ch2.chirpz_similar_to_bilinear_no_skew", ds)
+    key = "error_ratio_chirp_z_over_bilinear_no_skew_geometric_mean"
+    np.testing.assert_allclose(v.measured[key], 1.0)
+    assert "log" in v.statistic
+    # a ratio of exactly the tolerance factor everywhere lies outside the log band
+    ds2 = table2_2(GOOD, seeds=6, noise=0.0)
+    ds2["test_error"].loc[{"transform": "chirp_z"}] = (
+        ds2["test_error"].sel(transform="bilinear_no_skew") * 1.3)
+    assert status("ch2.chirpz_similar_to_bilinear_no_skew", ds2).status == "not_reproduced"
+
+
+def test_errors_are_reported_in_percent_like_the_thesis():
+    """The thesis prints "7.8 %": the measured errors are in percent, and the claim
+    declares so, so the report does not show 0.078 beside 7.8 %."""
+    v = status("ch2.spatial_transformers_beat_plain", table2_2(GOOD))
+    np.testing.assert_allclose(v.measured["mean_none"], 7.8, atol=0.1)
+    assert claims.get("ch2.spatial_transformers_beat_plain").units["error"] == "percent"
+    row = claims.evaluate(claims.get("ch2.chirpz_similar_to_bilinear"),
+                          {"ch2/table2_2": table2_2(GOOD)})
+    assert row["measured_units"]["error"] == "percent"
+    np.testing.assert_allclose(row["measured"]["mean_error_chirp_z"], 3.45, atol=0.1)

@@ -33,7 +33,8 @@ def robustness(fractions, seeds: int = 4) -> xr.Dataset:
     return xr.Dataset({"fraction_walking": da})
 
 
-def table3_2(seeds: int = 4, scap_speed: float = 0.22, step_speed: float = 0.07) -> xr.Dataset:
+def table3_2(seeds: int = 4, scap_speed: float = 0.22, step_speed: float = 0.07,
+             forward_speed: float = 0.24, scap_radius: float = 0.61) -> xr.Dataset:
     rng = np.random.default_rng(5)
     def var(values, noise, units):
         v = np.array(values)[None] + noise * rng.standard_normal((seeds, len(STRATEGIES)))
@@ -43,8 +44,11 @@ def table3_2(seeds: int = 4, scap_speed: float = 0.22, step_speed: float = 0.07)
     return xr.Dataset({
         "speed": var([step_speed, 0.01, 0.0, 0.0, scap_speed], 0.005, "m/s"),
         "angular_speed": var([8.0, 0.5, 0.0, 0.0, 20.0], 0.5, "degree/s"),
-        "turning_radius": var([0.45, 9.9, 9.9, 9.9, 0.61], 0.01, "m"),
+        "turning_radius": var([0.45, 9.9, 9.9, 9.9, scap_radius], 0.003, "m"),
         "stable": var([1, 0, 0, 0, 1], 0.0, "1"),
+        "forward_speed": xr.DataArray(forward_speed + 0.005 * rng.standard_normal(seeds),
+                                      dims=("seed",), coords={"seed": np.arange(seeds)},
+                                      attrs={"units": "m/s", "long_name": "straight"}),
     })
 
 
@@ -86,9 +90,14 @@ def test_turning_claims():
                 "ch3.three_turning_strategies_fail", "ch8.ch3_scapulae_help_maintain_speed"):
         assert check(cid, table3_2=ds).status == "reproduced", cid
     no_turn = ds.copy(deep=True)
-    no_turn["angular_speed"].loc[{"strategy": "step_size"}] = [0.3, -0.3, 0.2, -0.2]
+    no_turn["stable"].loc[{"strategy": "step_size"}] = 0.0
     assert check("ch3.turning_without_scapulae_possible", table3_2=no_turn).status == (
-        "inconclusive")
+        "not_reproduced")
+    # 'possible' is existence: one stable step-size turn of four seeds is enough
+    once = ds.copy(deep=True)
+    once["stable"].loc[{"strategy": "step_size"}] = [1.0, 0.0, 0.0, 0.0]
+    v = check("ch3.turning_without_scapulae_possible", table3_2=once)
+    assert v.status == "reproduced" and v.measured["turns.rate"] == 0.25
     slow = table3_2(scap_speed=0.03)
     assert check("ch3.scapulae_maintain_speed", table3_2=slow).status == "not_reproduced"
     two = ds.sel(strategy=["step_size", "scapulae"])
@@ -101,3 +110,55 @@ def test_untestable_and_missing():
     assert v.status == "not_run" and "not testable" in v.detail
     v = check("ch3.spline_fastest")
     assert v.status == "not_run" and "ch3/fig3_4" in v.detail
+
+
+def test_flattening_is_tested_above_1hz_and_by_size():
+    """Any concave curve passed before: a slope that falls only from 0.2 to 0.16 above
+    1 Hz has not flattened, and a curve linear up to 1.75 Hz does not flatten at 1 Hz."""
+    ds = fig3_4()
+    sp = ds["speed"].values.copy()
+    sp[:, 0] = 0.2 * FREQ - 0.04 * np.maximum(FREQ - 1.0, 0)
+    mild = ds.copy()
+    mild["speed"] = (ds["speed"].dims, sp, ds["speed"].attrs)
+    assert check("ch3.sine_speed_flattens_above_1hz", fig3_4=mild).status == "not_reproduced"
+    late = fig3_4(sine_knee=1.75)
+    assert check("ch3.sine_speed_flattens_above_1hz", fig3_4=late).status != "reproduced"
+
+
+def test_sine_fragility_is_absolute():
+    """"Not robust against small parameter changes": 60 % of perturbed sine gaits still
+    walking is robust on the whole, even when the other gaits keep 95 %."""
+    v = check("ch3.sine_gaits_fragile", robustness=robustness([0.6, 0.95, 0.95]))
+    assert v.status == "not_reproduced" and v.measured["bound"] == 0.5
+
+
+def test_turning_radius_tests_the_36_percent():
+    """A radius twice as large is "higher" but not "36 % higher"."""
+    v = check("ch3.scapulae_larger_turning_radius", table3_2=table3_2(scap_radius=0.9))
+    assert v.status == "not_reproduced"
+    ok = check("ch3.scapulae_larger_turning_radius", table3_2=table3_2())
+    assert ok.status == "reproduced" and abs(ok.measured["increase_percent"] - 36) < 3
+
+
+def test_maintain_speed_is_against_straight_line_speed():
+    """Faster than step-size turning but at half the straight-line speed does not
+    "maintain its speed"; §8.1's version also needs a turn without scapulae to exist."""
+    half = table3_2(forward_speed=0.44)
+    v = check("ch3.scapulae_maintain_speed", table3_2=half)
+    assert v.status == "not_reproduced" and v.measured["rate"] == 0.0
+    assert check("ch8.ch3_scapulae_help_maintain_speed", table3_2=half).status == (
+        "not_reproduced")
+    never = table3_2()
+    never["stable"].loc[{"strategy": "step_size"}] = 0.0
+    v = check("ch8.ch3_scapulae_help_maintain_speed", table3_2=never)
+    assert v.status == "not_reproduced" and "possible_without: not_reproduced" in v.detail
+
+
+def test_each_failed_strategy_is_tested_with_holm():
+    """The average of three hid one that works: torque turning as stable as the kept
+    strategies must not let "the three strategies fail" pass."""
+    ds = table3_2()
+    ds["stable"].loc[{"strategy": "torque"}] = 1.0
+    v = check("ch3.three_turning_strategies_fail", table3_2=ds)
+    assert v.status == "not_reproduced" and "torque" in v.detail
+    assert "Holm" in v.statistic

@@ -200,6 +200,12 @@ def test_best_speed_gains():
     assert check("ch4.best_speed_gains", **ok).status == "reproduced"
     bad = dict(ok, table4_3=table4_3(0.5))
     assert check("ch4.best_speed_gains", **bad).status == "not_reproduced"
+    # the gains are shown in percent beside the thesis's 9 %, and declared so
+    v = check("ch4.best_speed_gains", **ok)
+    np.testing.assert_allclose(v.measured["grade9.gain_percent_mean"], 9.0, atol=0.5)
+    assert v.measured["grade9.thesis_gain_percent"] == 9.0
+    assert claims.get("ch4.best_speed_gains").units["gain_percent"] == "percent"
+    assert "log" in v.statistic
 
 
 def test_trains_faster():
@@ -222,13 +228,19 @@ def test_trains_faster():
 
 def test_search_space_claims():
     good = dict(fig4_10=fig4_10(1.7), fig4_5=fig4_5(0.1))
-    assert check("ch4.speedup_from_reduced_search_space", **good).status == "reproduced"
-    assert check("ch8.ch4_reduced_exploration", **good).status == "reproduced"
+    # a causal sentence from two correlations: untestable without an intervention, even
+    # when both correlations hold (they are decided and shown in the detail)
+    for cid in ("ch4.speedup_from_reduced_search_space", "ch8.ch4_reduced_exploration"):
+        v = check(cid, **good)
+        assert v.status == "inconclusive" and "intervention" in v.detail, cid
+        assert "the two correlations: reproduced" in v.detail
+        assert v.measured["smaller_search_space.advantage_ci_low"] > 0
     assert check("ch4.search_space_1_7_times_smaller", fig4_10=fig4_10(1.7)).status == "reproduced"
     assert check("ch4.transfer_starts_with_final_search_space",
                  fig4_10=fig4_10(1.7)).status == "reproduced"
     larger = dict(good, fig4_10=fig4_10(0.7))
-    assert check("ch4.speedup_from_reduced_search_space", **larger).status == "not_reproduced"
+    v = check("ch4.speedup_from_reduced_search_space", **larger)
+    assert v.status == "inconclusive" and "the two correlations: not_reproduced" in v.detail
     assert check("ch4.search_space_1_7_times_smaller",
                  fig4_10=fig4_10(3.0)).status == "not_reproduced"
     assert check("ch4.transfer_starts_with_final_search_space",
@@ -301,9 +313,23 @@ def test_soft_legs_start_worse_learn_faster():
 
 def test_pebbles_head_start_lost():
     assert check("ch4.pebbles_head_start_lost",
-                 fig4_8=fig4_8(0.15, 0.0)).status == "reproduced"
+                 fig4_8=fig4_8(0.4, 0.0)).status == "reproduced"
     assert check("ch4.pebbles_head_start_lost",
                  fig4_8=fig4_8(-0.15, 0.0)).status == "not_reproduced"
+
+
+def test_pebbles_head_start_needs_every_original_particle():
+    """"All the original particles outperform the random particles": a first generation
+    whose transferred particles beat the random ones on the whole (pooled A > 0.5) but
+    where one of them scores below nearly every random particle is not "all outperform"."""
+    ds = fig4_8(0.4, 0.0)
+    sc = ds["score"].values.copy()
+    sc[:, 1, 0, 0] = -1.0  # one original particle fell, in every seed
+    ds["score"] = (ds["score"].dims, sc, ds["score"].attrs)
+    v = check("ch4.pebbles_head_start_lost", fig4_8=ds)
+    assert v.status == "not_reproduced"
+    assert v.measured["every_original_outperforms.A12_worst_original_generation0_minus_half"
+                      "_mean"] < 0
 
 
 def _ten_seeds(ds):
@@ -311,8 +337,10 @@ def _ten_seeds(ds):
 
 
 def test_pebbles_best_particles():
-    five = check("ch4.pebbles_best_is_transferred", table4_4=table4_4(gen0=True))
-    assert five.status == "inconclusive" and "at least 6 seeds" in five.detail
+    for gen0 in (True, False):  # with 5 seeds no count decides: untestable, seeds named
+        five = check("ch4.pebbles_best_is_transferred", table4_4=table4_4(gen0=gen0))
+        assert five.status == "inconclusive" and "not testable" in five.detail
+        assert "at least 6 seeds" in five.detail and five.measured["seeds_needed"] == 6
     assert check("ch4.pebbles_best_is_transferred",
                  table4_4=_ten_seeds(table4_4(gen0=True))).status == "reproduced"
     assert check("ch4.pebbles_best_is_transferred",
@@ -361,3 +389,20 @@ def test_thesis_budget_is_derived_from_its_numbers():
 
     assert ch4.thesis_budget() == dict(particles=20.0, generations=13.0, run_seconds=4.0,
                                        transition_seconds=2.0)
+
+
+def test_search_space_ratio_is_decided_on_its_logarithm():
+    """Per-generation ratios alternating 1 and 4 have a geometric mean of 2 (within 25 % of
+    1.7 on the log scale) but an arithmetic mean of 2.5 (47 % off): a ratio is decided on
+    its logarithm, so the skew of the raw ratio must not decide the verdict."""
+    ds = fig4_10(1.7)
+    size = ds["search_space_size"].values.copy()
+    per_gen = np.where(np.arange(G) % 2 == 0, 1.0, 4.0)
+    per_gen[-1] = 2.0  # an odd number of generations: keep the geometric mean at 2
+    size[:, :, 1] = size[:, :, 0] / per_gen[None, None]
+    ds["search_space_size"] = (ds["search_space_size"].dims, size,
+                               ds["search_space_size"].attrs)
+    v = check("ch4.search_space_1_7_times_smaller", fig4_10=ds)
+    assert v.status == "reproduced"
+    np.testing.assert_allclose(v.measured["size_ratio_random_over_transfer_geometric_mean"],
+                               2.0, rtol=1e-6)

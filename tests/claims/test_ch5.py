@@ -227,7 +227,7 @@ def test_methods_at_the_majority_share_decide_nothing():
              table5_6=table5_6(AT_BASELINE, AT_BASELINE, share=AT_BASELINE))
     for cid in ("ch5.limited_sensor_selection_suffices",
                 "ch5.rc_and_elm_equal_with_enough_inputs",
-                "ch5.recurrence_no_difference_unsupervised", "ch5.train_test_gap"):
+                "ch5.recurrence_no_difference_unsupervised"):
         v = check(cid, **r)
         assert v.status == "inconclusive", (cid, v.detail)
         assert "majority-class share" in v.detail, (cid, v.detail)
@@ -235,7 +235,7 @@ def test_methods_at_the_majority_share_decide_nothing():
 
 def test_a_comparison_below_the_baseline_is_not_reproduced_but_reported():
     v = check("ch5.reservoir_better_with_few_sensors",
-              table5_4=table5_4(elm_touch=35.0, rc_touch=40.0, share=AT_BASELINE))
+              table5_4=table5_4(elm_touch=30.0, rc_touch=40.0, share=AT_BASELINE))
     assert v.status == "inconclusive" and "rc do(es) not beat" in v.detail
     assert v.measured["rc_over_baseline.advantage_ci_high"] < 0
     assert v.measured["chance"] == 20.0
@@ -248,7 +248,8 @@ def test_frequency_recall_against_a_constant_classifiers_mean_recall():
     ds = fig5_3()
     ds["train_trials"][:] = np.tile([2, 5, 3, 3, 3], (SEEDS, 1))  # S alone is scored
     v = check("ch5.generalises_to_frequencies_not_gaits", fig5_3=ds)
-    assert v.status == "inconclusive" and v.measured["baseline_mean"] == 100.0
+    assert v.status == "inconclusive"
+    assert v.measured["frequencies_beat_gaits.baseline_mean"] == 100.0
 
 
 def test_datasets_without_baselines_do_not_decide():
@@ -266,3 +267,53 @@ def test_majority_share_of_a_set():
     segs = [Segment(0, 0, 300), Segment(1, 0, 140), Segment(2, 0, 60), Segment(3, 0, 100)]
     assert majority_share(segs, terrain, 5) == 100.0 * 440 / 600
     assert np.isnan(majority_share([], terrain, 5))
+
+
+def test_the_baseline_gate_holds_in_both_directions():
+    """The issue's case: RC at 22 % and ELM at 26 %, both under the 33 % majority share: a
+    comparison between methods that both fail to classify is inconclusive, not "not
+    reproduced". When the favoured side does classify, "not reproduced" stands."""
+    both_fail = table5_4(elm_touch=26.0, rc_touch=22.0, share=33.0)
+    for cid in ("ch5.reservoir_better_with_few_sensors", "ch8.ch5_memory_important"):
+        v = claims.get(cid).check({"ch5/table5_4": both_fail})
+        assert v.status == "inconclusive" and "none of rc, elm beats" in v.detail, cid
+    elm_works = table5_4(elm_touch=80.0, rc_touch=22.0, share=33.0)
+    assert check("ch5.reservoir_better_with_few_sensors",
+                 table5_4=elm_works).status == "not_reproduced"
+    low = table5_5(sfa2=28.0, rc_sfa=24.0, share=33.0)
+    assert check("ch5.reservoir_beats_quadratic_expansion",
+                 table5_5=low).status == "inconclusive"
+
+
+def test_train_test_gap_is_measured_against_the_majority_share():
+    """Train far above the majority share and test near it is the largest gap, not an
+    inconclusive one; a train accuracy that does not beat the train set's majority share
+    decides nothing."""
+    near = [MAJORITY] * 8
+    big_gap = dict(table5_3=table5_3(lr=near, rc=near, train_gain=60.0),
+                   table5_5=table5_5(sfa2=MAJORITY, rc_sfa=MAJORITY, train_gain=60.0))
+    v = check("ch5.train_test_gap", **big_gap)
+    assert v.status == "reproduced", v.detail
+    untrained = dict(table5_3=table5_3(lr=[10.0] * 8, rc=[10.0] * 8, train_gain=5.0),
+                     table5_5=table5_5(sfa2=10.0, rc_sfa=10.0, train_gain=5.0))
+    assert check("ch5.train_test_gap", **untrained).status == "inconclusive"
+
+
+def test_drastic_needs_a_margin_not_just_a_positive_difference():
+    """"Drastic better performance" / "memory is important": RC 2 points above ELM on touch
+    (well within the chapter's 5-point "virtually the same") is not drastic."""
+    slight = table5_4(elm_touch=83.0, rc_touch=85.0)
+    for cid in ("ch5.reservoir_better_with_few_sensors", "ch8.ch5_memory_important"):
+        v = claims.get(cid).check({"ch5/table5_4": slight})
+        assert v.status == "not_reproduced", (cid, v.detail)
+        assert v.measured["bound"] == 5.0
+
+
+def test_generalisation_to_gaits_must_be_poor():
+    """"Not very effective at generalizing to unseen gaits" cannot hold at 80 % gait recall
+    (two terrains scored on gaits: a constant classifier has 50 %, half-way to 100 % is
+    75 %), even when the frequency recall is higher still."""
+    v = check("ch5.generalises_to_frequencies_not_gaits",
+              fig5_3=fig5_3(freq_recall=95.0, gait_recall=80.0))
+    assert v.status == "not_reproduced", v.detail
+    np.testing.assert_allclose(v.measured["gaits_not_very_effective.halfway_mean"], 75.0)

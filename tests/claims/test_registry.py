@@ -128,3 +128,26 @@ def test_a_verdict_the_perturbed_twin_runs_move_is_fragile():
     assert both[cid]["fragile"] is False and both[cid]["isa_dependent"] is True
     assert both[cid]["native"]["status"] != "reproduced"
     assert "isa_dependent" not in same[cid] and "native" not in both["ch3.spline_fastest"]
+
+
+def test_a_claim_is_twinned_only_when_every_input_it_requires_has_a_twin():
+    """A claim needing ``x/a`` and ``x/b`` with only ``x/a`` rerun is neither fragile nor
+    robust: its "twin" verdict would mix a twin with an original run. Only when every
+    required input has a twin is ``fragile`` (and ``isa_dependent``) decided."""
+    from thesis.claims.types import Claim, Verdict
+
+    def ds(v):
+        return xr.Dataset({"v": ("seed", np.full(3, float(v)), {"units": "1"})})
+
+    claim = Claim(id="chx.two_inputs", chapter=2, section="§0", quote="q", summary="s",
+                  requires=("x/a", "x/b"),
+                  fn=lambda r: Verdict("reproduced" if float(r["x/a"]["v"].mean())
+                                       + float(r["x/b"]["v"].mean()) > 1 else "not_reproduced"))
+    run = {"x/a": ds(1), "x/b": ds(1)}
+    half = claims.replaced_view(run, {"x/a": ds(-5)})
+    out = claims.evaluate(claim, run, perturbed=half, native=half)
+    assert "fragile" not in out and "perturbed" not in out
+    assert "isa_dependent" not in out and "native" not in out
+    full = claims.replaced_view(run, {"x/a": ds(-5), "x/b": ds(1)})
+    out = claims.evaluate(claim, run, perturbed=full, native=full)
+    assert out["fragile"] is True and out["isa_dependent"] is True

@@ -135,3 +135,18 @@ def test_fragility_section_counts_twin_verdicts_per_chapter():
     assert "Perturbed twin runs read: 2 results (ch3)" in page
     assert "Native twin runs read: 1 results (ch3)" in page
     assert "Native twin runs" not in V.fragility_html(claims, ["ch3/table3_1"])
+
+
+def test_measured_numbers_carry_their_own_units_not_the_variables():
+    """A check that reports transformed numbers (a log10 ratio of an MSE in rad^2) must not
+    show them as rad^2: without declared units the note names the units of the variables
+    *read*; with declared units (``measured_units``) those label the numbers."""
+    plain = _claim(units={"ch6/trot:mse_curve": "rad2"},
+                   measured={"log10_mse_ratio_mean": -1.2, "n_seeds": 5.0})
+    page = _visible(V.claims_html([plain]))
+    assert "read from: mse curve in rad2" in page
+    assert "(mse curve in rad2)" not in page
+    declared = _claim(measured_units={"error": "percent", "ratio": "1"})
+    page = _visible(V.claims_html([declared]))
+    assert "numbers in: error in %; ratio in units of 1" in page
+    assert "test error in units of 1" not in page

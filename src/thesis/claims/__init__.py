@@ -113,13 +113,15 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
              native: tuple[Mapping[str, xr.Dataset], set] | None = None
              ) -> dict[str, object]:
     """One claim's verdict as a JSON-ready dict: claim fields, paper numbers, verdict, the
-    units of the variables it reads (``units``), the departures of the results it rests on
+    units of the variables it reads (``units``), the units the claim declares for the
+    numbers it reports (``measured_units``, :attr:`Claim.units`; empty when it reports the
+    variables in their own units), the departures of the results it rests on
     (``departures``, each with ``in_effect``) and its ``reading``
-    (:func:`thesis.claims.basis.reading`). Where a result the claim requires carries
+    (:func:`thesis.claims.basis.reading`). Where every result the claim requires carries
     perturbed twins (``perturbed``, default :func:`perturbed_view` of ``results``), also
     ``perturbed``: the verdict decided on the twins (status, measured numbers, statistic,
     detail), and ``fragile`` (the two differ).
-    Likewise, where a required result has a native twin run (``native``, a
+    Likewise, where every required result has a native twin run (``native``, a
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
     ``isa_dependent``."""
     verdict = claim.check(results)
@@ -128,6 +130,7 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         "id": claim.id, "chapter": claim.chapter, "section": claim.section,
         "quote": claim.quote, "summary": claim.summary, "requires": list(claim.requires),
         "reads": list(claim.reads), "units": _units(claim.reads, results),
+        "measured_units": dict(claim.units),
         "paper": [_paper_entry(k) for k in claim.paper_keys],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
@@ -135,7 +138,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     twins = (("perturbed", "fragile", perturbed_view(results) if perturbed is None
               else perturbed), ("native", "isa_dependent", native))
     for name, flag, decided_on in twins:
-        if decided_on is not None and decided_on[1] & set(claim.requires):
+        # twinned only when every input has a twin: with one input rerun and another not,
+        # the "twin" verdict mixes both runs and cannot say whether the claim is fragile
+        if decided_on is not None and claim.requires and set(claim.requires) <= decided_on[1]:
             other = claim.check(decided_on[0])
             out[name] = other.to_dict()
             out[flag] = other.status != verdict.status

@@ -83,6 +83,10 @@ class Claim:
         requires: result keys the check needs, e.g. ``("ch2/table2_2",)``.
         reads: ``"<result key>:<variable>"`` items the check reads (documentation).
         fn: the check on the loaded results; ``None`` while the experiment is not built.
+        units: the units of the numbers the check reports, by a word of their names
+            (``{"error": "percent", "ratio": "1"}``); empty when the check reports the
+            variables it reads in their own units. The report prefers these to the units
+            of the variables read, which a transformed number (a log ratio) does not have.
     """
 
     id: str
@@ -94,6 +98,7 @@ class Claim:
     requires: tuple[str, ...] = ()
     reads: tuple[str, ...] = ()
     fn: CheckFn | None = None
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def check(self, results: Results) -> Verdict:
         """Decide the verdict from ``results`` (result key -> dataset); never raises on data."""

@@ -173,10 +173,22 @@ def measured_words(measured: dict) -> list[str]:
     return out
 
 
-def _units_words(units: dict) -> str:
+def _units_words(units: dict, measured_units: dict | None = None) -> str:
+    """The units note beside the measured numbers.
+
+    A claim that declares the units of the numbers it reports (``measured_units``) is
+    labelled with those ("numbers in: error in %; ratio in 1 ..."). Otherwise only the
+    units of the variables it *reads* are known, and they are named as such ("read from:
+    mse curve in rad^2"), not as the units of every shown number: a log ratio or a
+    relative gain computed from a variable does not carry the variable's unit.
+    """
+    if measured_units:
+        items = [f"{k.replace('_', ' ')} in {unit_words(u) or 'units of 1'}"
+                 for k, u in measured_units.items() if u not in (None, "")]
+        return "numbers in: " + "; ".join(dict.fromkeys(items)) if items else ""
     items = [f"{k.split(':')[-1].replace('_', ' ')} in {unit_words(u) or 'units of 1'}"
              for k, u in (units or {}).items() if u not in (None, "")]
-    return "; ".join(dict.fromkeys(items))
+    return "read from: " + "; ".join(dict.fromkeys(items)) if items else ""
 
 
 def _list_html(items: list[str]) -> str:
@@ -187,7 +199,7 @@ def _numbers_html(c: dict) -> str:
     """Measured vs thesis numbers in words and units; the raw keys behind a fold-out."""
     thesis = paper_words(c.get("paper"))
     measured = measured_words(c.get("measured"))
-    units = _units_words(c.get("units"))
+    units = _units_words(c.get("units"), c.get("measured_units"))
     parts = []
     if thesis:
         parts.append("<b>thesis</b>" + _list_html(thesis))
