@@ -315,3 +315,26 @@ def test_load_results_raises_the_one_line_error(tmp_path):
         store.load_results("smoke", tmp_path)
     with pytest.raises(MissingInputError, match="does not exist"):
         store.check_input("ch6/trot", "teacher", tmp_path / "nope.nc")
+
+
+@pytest.mark.slow
+def test_every_input_the_rules_pass_is_what_its_check_expects():
+    """Every ``--input name=path`` of the planned jobs (smoke, with chapter 3's screen of
+    teachers and Tab. 5.3's variants): the result or generated input the check expects
+    for ``name`` is the one the path holds, and the remaking target is the path itself;
+    so the check refuses no intact input of the pipeline."""
+    from tests.pipeline.conftest import snakemake
+
+    proc = snakemake("all", "ch5_variants", "--forceall", "-n", "-p", "--cores", "1",
+                     "--config", "profile=smoke", 'ch6={"teacher": {"source": "screen"}}',
+                     timeout=300)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    seen = set()
+    for line in (proc.stdout + proc.stderr).splitlines():
+        m = re.search(r"-m thesis (?:--perturb \S+ )?run (\S+)", line)
+        for name, path in re.findall(r"--input (\w+)=(\S+)", line) if m else ():
+            want, target = store.input_producer(m[1], name, "smoke")
+            assert want is not None and target == path, (m[1], name, path, want, target)
+            seen.add(want)
+    assert {"ch3/table3_1", "ch6/teacher", "ch4/flat", "ch2/table2_2_ffn_spn",
+            "ch2/cluttered_mnist", "ch5/puppy_recordings"} <= seen
