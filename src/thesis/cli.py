@@ -178,8 +178,9 @@ def _cmd_check(args) -> int:
     _write_power(out.with_name(POWER_FILE))
     if bad:
         undecided = sum(1 for v in verdicts if v.get("unreadable"))
-        print(f"thesis: {_damaged_summary(bad)}; {undecided} claim(s) not decided for it, "
-              f"the other {len(verdicts) - undecided} decided -> {out}", file=sys.stderr)
+        print(f"thesis: {_damaged_summary(bad)}; the {undecided} claim(s) that need it not "
+              f"decided, the other {len(verdicts) - undecided} as usual -> {out}",
+              file=sys.stderr)
         return EXIT_DAMAGED
     return 0
 

@@ -340,7 +340,8 @@ def open_result(path: str | Path, key: str, *, runs: str = "default",
     Args:
         path: the ``.nc`` file.
         key: the registry key of the experiment whose result it must hold; a file whose
-            ``experiment`` attribute names another is refused. ``None``: any result.
+            ``experiment`` attribute names another, or none, is refused. ``None``: any
+            result of ``thesis run``.
         runs: the results directory it belongs to (``default``, ``default-perturbed``,
             ...), for the remaking command.
         role: the file's role in messages (default: ``"result <key> of <chapter>,
@@ -351,8 +352,8 @@ def open_result(path: str | Path, key: str, *, runs: str = "default",
 
     Raises:
         DamagedFileError: empty, truncated, unreadable or foreign (not HDF5/netCDF-4), or
-            not a result of ``key`` (another ``experiment``, no ``thesis_ref``, no data
-            variable); the one-line message names ``path``, its role, the cause and the
+            not a result of ``key`` (another or no ``experiment``, no ``thesis_ref``, no
+            data variable; e.g. a generated HDF5 input); the one-line message names ``path``, its role, the cause and the
             command that remakes it.
     """
     path = Path(path)
@@ -361,14 +362,18 @@ def open_result(path: str | Path, key: str, *, runs: str = "default",
     if path.stat().st_size == 0:
         raise _damaged(path, role, remake, cause="empty (0 bytes)")
     try:
-        ds = xr.load_dataset(path, engine=ENGINE)
+        # phony_dims: how h5netcdf names the dimensions of a plain HDF5 file (no netCDF
+        # dimension scales), stated so that reading one (to refuse it) warns of nothing
+        ds = xr.load_dataset(path, engine=ENGINE, phony_dims="access")
     except MemoryError:
         raise
     except Exception as err:  # noqa: BLE001 -- a damaged file can trip any of the readers
         raise _damaged(path, role, remake, err=err) from err
     problems = []
     got = ds.attrs.get("experiment")
-    if key is not None and got is not None and str(got) != key:
+    if got is None:  # every result thesis run writes names its experiment
+        problems.append("attribute 'experiment' is missing (not a result of thesis run)")
+    elif key is not None and str(got) != key:
         problems.append(f"it holds the result of {got} (its 'experiment' attribute), "
                         f"not of {key}")
     if not ds.attrs.get("thesis_ref"):

@@ -338,3 +338,23 @@ def test_every_input_the_rules_pass_is_what_its_check_expects():
             seen.add(want)
     assert {"ch3/table3_1", "ch6/teacher", "ch4/flat", "ch2/table2_2_ffn_spn",
             "ch2/cluttered_mnist", "ch5/puppy_recordings"} <= seen
+
+
+def test_a_generated_input_passed_for_a_result_is_refused(fake_runs, capsys, tmp_path):
+    """An HDF5 file xarray can read but ``thesis run`` did not write (no ``experiment``)."""
+    data = _recordings(fake_runs / "data" / "synthetic" / "puppy" / "smoke.h5")
+    out = fake_runs / "trot.nc"
+    rc, err = _run(["ch6/trot", "--input", f"teacher={data}", "--output", str(out)], capsys)
+    assert rc == cli.EXIT_DAMAGED and "attribute 'experiment' is missing" in err
+    assert "snakemake results/smoke/ch6/teacher.nc" in err and not out.exists()
+
+
+def test_report_figures_of_the_damaged_chapter_exit_nonzero_the_others_not(tmp_path, capsys):
+    results, out = tmp_path / "results", tmp_path / "reports"
+    _damage(_results(results)[DAMAGED_KEY], "truncated", results)
+    args = ["report", "--profile", "smoke", "--results", str(results), "--outdir", str(out)]
+    assert cli.main([*args, "--figures", "ch7"]) == 0
+    assert cli.main([*args, "--figures", "ch3"]) == cli.EXIT_DAMAGED
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "ch3/fig3_4.nc (truncated" in err
+    assert (out / "figures" / "ch3" / "manifest.json").exists()
