@@ -10,10 +10,11 @@
   ``summary.md``; ``--figures ch3`` renders only that chapter's figures.
 
 Exit status: 0 done; 2 a configuration error or an unknown key (an experiment, a
-config key, an input the experiment needs but was not given); 3 a simulation diverged (nothing written); 4 (:data:`EXIT_DAMAGED`) a
-result or input file is damaged or missing: ``run`` writes nothing, ``check`` and
-``report`` first decide and render everything that does not need it. Each error is one
-line on stderr naming the file, its role and the command that remakes it.
+config key, an input the experiment needs but was not given); 3 a simulation diverged
+(nothing written); 4 (:data:`EXIT_DAMAGED`) a result or input file is damaged or
+missing: ``run`` writes nothing, ``check`` and ``report`` first decide and render
+everything that does not need it. Each error is one line on stderr naming the file, its
+role and the command that remakes it.
 """
 
 from __future__ import annotations

@@ -353,8 +353,8 @@ def open_result(path: str | Path, key: str, *, runs: str = "default",
     Raises:
         DamagedFileError: empty, truncated, unreadable or foreign (not HDF5/netCDF-4), or
             not a result of ``key`` (another or no ``experiment``, no ``thesis_ref``, no
-            data variable; e.g. a generated HDF5 input); the one-line message names ``path``, its role, the cause and the
-            command that remakes it.
+            data variable; e.g. a generated HDF5 input); the one-line message names
+            ``path``, its role, the cause and the command that remakes it.
     """
     path = Path(path)
     role = role or f"result {key} of {_area(key)}, results/{runs}/"
