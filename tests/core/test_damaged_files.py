@@ -322,15 +322,21 @@ def test_every_input_the_rules_pass_is_what_its_check_expects():
     """Every ``--input name=path`` of the planned jobs (smoke, with chapter 3's screen of
     teachers and Tab. 5.3's variants): the result or generated input the check expects
     for ``name`` is the one the path holds, and the remaking target is the path itself;
-    so the check refuses no intact input of the pipeline."""
+    and every result ``results/smoke/<ch>/<artifact>.nc`` is written by experiment
+    ``<ch>/<artifact>``; so the checks refuse no intact file of the pipeline."""
     from tests.pipeline.conftest import snakemake
 
     proc = snakemake("all", "ch5_variants", "--forceall", "-n", "-p", "--cores", "1",
                      "--config", "profile=smoke", 'ch6={"teacher": {"source": "screen"}}',
                      timeout=300)
     assert proc.returncode == 0, proc.stderr[-4000:]
-    seen = set()
+    seen, written = set(), 0
     for line in (proc.stdout + proc.stderr).splitlines():
+        m = re.search(r"-m thesis (?:--perturb \S+ )?(run|bench) (\S+) .*--output (\S+)", line)
+        if m and re.fullmatch(r"results/smoke/\w+/\w+\.nc", m[3]):
+            key = registry.BENCHMARKS[m[2]] if m[1] == "bench" else m[2]
+            assert m[3] == f"results/smoke/{key}.nc", (key, m[3])
+            written += 1
         m = re.search(r"-m thesis (?:--perturb \S+ )?run (\S+)", line)
         for name, path in re.findall(r"--input (\w+)=(\S+)", line) if m else ():
             want, target = store.input_producer(m[1], name, "smoke")
@@ -338,6 +344,7 @@ def test_every_input_the_rules_pass_is_what_its_check_expects():
             seen.add(want)
     assert {"ch3/table3_1", "ch6/teacher", "ch4/flat", "ch2/table2_2_ffn_spn",
             "ch2/cluttered_mnist", "ch5/puppy_recordings"} <= seen
+    assert written > 40
 
 
 def test_a_generated_input_passed_for_a_result_is_refused(fake_runs, capsys, tmp_path):
