@@ -8,6 +8,13 @@
   (``claims_power.json``).
 - ``thesis report --profile smoke``: render ``reports/<profile>/index.html`` and
   ``summary.md``; ``--figures ch3`` renders only that chapter's figures.
+
+Exit status: 0 done; 2 a configuration error or an unknown key (an experiment, a
+config key, an input the experiment needs but was not given); 3 a simulation diverged
+(nothing written); 4 (:data:`EXIT_DAMAGED`) a result or input file is damaged or
+missing: ``run`` writes nothing, ``check`` and ``report`` first decide and render
+everything that does not need it. Each error is one line on stderr naming the file, its
+role and the command that remakes it.
 """
 
 from __future__ import annotations
@@ -22,7 +29,7 @@ from pathlib import Path
 
 from thesis import departures, registry, store
 from thesis.config import PROFILES, load_config
-from thesis.errors import ConfigError, SimulationDiverged
+from thesis.errors import ConfigError, DamagedFileError, MissingInputError, SimulationDiverged
 from thesis.runctx import RunContext
 
 log = logging.getLogger("thesis")
@@ -85,6 +92,9 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
 
     Raises:
         SimulationDiverged: the experiment produced NaN; nothing is written.
+        MissingInputError, DamagedFileError: an input is missing, damaged or holds
+            another artifact (:func:`thesis.store.check_input`); checked before the
+            experiment starts, so nothing is written.
     """
     config = load_config(profile, config_file, overrides)
     from thesis import jaxsetup
@@ -96,6 +106,8 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
     fn = registry.resolve(key)
     name = store.results_name(profile, perturbed=perturb > 0)
     out = Path(output) if output else store.result_path(name, key)
+    for input_name, path in (inputs or {}).items():
+        store.check_input(key, input_name, path, runs=name, perturb=perturb or None)
     # the chapter's part of the declared slice: an undeclared key is a KeyError, not a
     # setting whose change Snakemake would miss (thesis.registry.READS)
     ctx = RunContext(key=key, profile=profile,
@@ -139,27 +151,52 @@ def _cmd_bench(args) -> int:
     return 0
 
 
+#: Exit status of a command that met a damaged or missing result or input file (``thesis
+#: check`` and ``thesis report`` still decide and render everything else first).
+EXIT_DAMAGED = 4
+
+
 def _cmd_check(args) -> int:
     from thesis.claims import evaluate_all
 
     load_config(args.profile, args.config_file)  # a broken profile is an error here too
-    results = store.load_results(args.profile, args.results)
+    # a damaged file is set aside (store.scan_results): the claims that need it are
+    # not_run naming it, every other claim is decided as usual
+    results, damaged = store.scan_results(args.profile, args.results)
     # the perturbed twin runs of some chapters, where they were made (thesis --perturb)
-    twins = store.load_results(store.results_name(args.profile, perturbed=True), args.results)
+    twins, damaged_twins = store.scan_results(
+        store.results_name(args.profile, perturbed=True), args.results)
     # and its native twin runs (every CPU pin lifted, snakemake --config isa=native)
-    native = store.load_results(store.results_name(args.profile, native=True), args.results)
-    verdicts = evaluate_all(results, twin_runs=twins, native_runs=native)
+    native, damaged_native = store.scan_results(
+        store.results_name(args.profile, native=True), args.results)
+    verdicts = evaluate_all(results, twin_runs=twins, native_runs=native,
+                            unreadable={k: e.to_dict() for k, e in damaged.items()})
     out = Path(args.output or Path(args.results) / args.profile / "claims.json")
     counts: dict[str, int] = {}
     for v in verdicts:
         counts[v["reading"]] = counts.get(v["reading"], 0) + 1
+    bad = [*damaged.values(), *damaged_twins.values(), *damaged_native.values()]
     payload = {"profile": args.profile, "n_results": len(results), "readings": counts,
-               "twin_runs": sorted(twins), "native_runs": sorted(native), "claims": verdicts}
+               "twin_runs": sorted(twins), "native_runs": sorted(native),
+               "damaged": [e.to_dict() for e in bad], "claims": verdicts}
     with store.atomic_path(out) as tmp:
         tmp.write_text(json.dumps(payload, indent=2, default=_json_default))
     log.info("claims: %s -> %s", counts, out)
     _write_power(out.with_name(POWER_FILE))
+    if bad:
+        undecided = sum(1 for v in verdicts if v.get("unreadable"))
+        print(f"thesis: {_damaged_summary(bad)}; the {undecided} claim(s) that need it not "
+              f"decided, the other {len(verdicts) - undecided} as usual -> {out}",
+              file=sys.stderr)
+        return EXIT_DAMAGED
     return 0
+
+
+def _damaged_summary(bad: list[DamagedFileError]) -> str:
+    """One line on damaged files: how many, then each one's path, cause and remaking
+    command (the role is implied by the path)."""
+    return (f"{len(bad)} damaged file(s): "
+            + "; ".join(f"{e.path} ({e.cause}; remake: {e.remake})" for e in bad))
 
 
 #: The decision rules' power table, written beside ``claims.json`` (read by the report).
@@ -191,12 +228,21 @@ def _cmd_report(args) -> int:
 
     config = load_config(args.profile, args.config_file)
     outdir = Path(args.outdir or Path("reports") / args.profile)
+    # a damaged result is set aside: everything else is rendered, the page names it
+    scanned = store.scan_results(args.profile, args.results)
     if args.figures:
         render.render_figures(args.figures, args.profile, outdir, config=config,
-                              results_root=Path(args.results))
+                              results_root=Path(args.results), scanned=scanned)
+        bad = [e for k, e in scanned[1].items() if k.startswith(args.figures + "/")]
+        done = f"the chapter's other figures rendered -> {outdir / 'figures' / args.figures}"
     else:
-        render.render_report(args.profile, outdir, config=config,
-                             results_root=Path(args.results))
+        index = render.render_report(args.profile, outdir, config=config,
+                                     results_root=Path(args.results), scanned=scanned)
+        bad = render.damaged_files(args.profile, Path(args.results), scanned[1])
+        done = f"everything else rendered -> {index}"
+    if bad:
+        print(f"thesis: {_damaged_summary(bad)}; {done}", file=sys.stderr)
+        return EXIT_DAMAGED
     return 0
 
 
@@ -279,6 +325,9 @@ def main(argv: list[str] | None = None) -> int:
     except SimulationDiverged as e:
         print(f"thesis: {e}", file=sys.stderr)
         return 3
+    except (DamagedFileError, MissingInputError) as e:
+        print(f"thesis: {e}", file=sys.stderr)
+        return EXIT_DAMAGED
 
 
 if __name__ == "__main__":

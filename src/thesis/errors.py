@@ -29,4 +29,34 @@ class SimulationDiverged(RuntimeError):
 
 
 class MissingInputError(FileNotFoundError):
-    """An experiment's input (data file, earlier result) does not exist."""
+    """An experiment's input (data file, earlier result) does not exist; the message names
+    it, its role and the command that makes it (:func:`thesis.store.check_input`)."""
+
+
+class DamagedFileError(OSError):
+    """A result or input file exists but cannot be used: unreadable, truncated, empty, of a
+    foreign format, or holding another artifact's dataset (:func:`thesis.store.open_result`,
+    :func:`thesis.store.check_input`).
+
+    The message is one line: the path, its role, the cause and the command that remakes it.
+
+    Args:
+        path: the damaged file, as it was given or found.
+        role: what the file is to the pipeline, e.g. ``"result ch3/table3_1 (chapter 3,
+            profile default)"`` or ``"input 'teacher' of experiment ch6/trot"``.
+        cause: what is wrong, e.g. ``"truncated: 20000 of 61234 bytes on disk"``.
+        remake: the shell command that remakes it (a Snakemake target).
+    """
+
+    def __init__(self, path, role: str, cause: str, remake: str):
+        self.path = str(path)
+        self.role = role
+        self.cause = " ".join(str(cause).split())  # one line, whatever the library wrote
+        self.remake = remake
+        super().__init__(f"{self.path} ({role}) cannot be used: {self.cause}; "
+                         f"remake it with: {remake}")
+
+    def to_dict(self) -> dict[str, str]:
+        """``path``, ``role``, ``cause``, ``remake`` and the one-line ``message`` (JSON)."""
+        return {"path": self.path, "role": self.role, "cause": self.cause,
+                "remake": self.remake, "message": str(self)}

@@ -25,8 +25,11 @@ from thesis import paper
 from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
+#: How :meth:`Claim.check` begins the detail of a verdict whose results are absent.
+MISSING = "missing datasets: "
+
 __all__ = ["CLAIMS", "Claim", "Verdict", "STATUSES", "NOT_IMPLEMENTED", "LayoutError", "get",
-           "evaluate", "evaluate_all", "perturbed_view"]
+           "evaluate", "evaluate_all", "mark_unreadable", "perturbed_view"]
 
 CLAIMS: tuple[Claim, ...] = (
     *ch2.CLAIMS, *ch3.CLAIMS, *ch4.CLAIMS, *ch5.CLAIMS, *ch6.CLAIMS, *ch7.CLAIMS, *ch8.CLAIMS,
@@ -147,14 +150,44 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     return out
 
 
+def mark_unreadable(verdict: dict[str, object],
+                    unreadable: Mapping[str, Mapping[str, str]]) -> dict[str, object]:
+    """``verdict`` (of :func:`evaluate`) told why it is ``not_run`` where a result it
+    requires is on disk but damaged: ``unreadable`` maps result keys to
+    :meth:`thesis.errors.DamagedFileError.to_dict` records. The status stays ``not_run``
+    (the claim was not decided; every consumer of :data:`STATUSES` knows it), its
+    ``detail`` names each damaged file with its cause and the command that remakes it, and
+    ``unreadable`` lists those records. A verdict that needs no damaged result is returned
+    unchanged."""
+    keys = [k for k in verdict.get("requires", ()) if k in unreadable]
+    if not keys:
+        return verdict
+    recs = [dict(unreadable[k], key=k) for k in keys]
+    detail = "unreadable result: " + "; ".join(
+        f"{r['path']} ({r['cause']}; remake: {r['remake']})" for r in recs)
+    before = str(verdict.get("detail", ""))
+    if before.startswith(MISSING):  # the results that are absent, not damaged
+        before = ", ".join(k for k in before.removeprefix(MISSING).split(", ")
+                           if k not in unreadable)
+        before = MISSING + before if before else ""
+    if before:
+        detail += "; " + before
+    return {**verdict, "status": "not_run", "reading": basis.reading("not_run", []),
+            "detail": detail, "unreadable": recs}
+
+
 def evaluate_all(results: Mapping[str, xr.Dataset], *,
                  n_resamples: int | None = None,
                  twin_runs: Mapping[str, xr.Dataset] | None = None,
-                 native_runs: Mapping[str, xr.Dataset] | None = None
+                 native_runs: Mapping[str, xr.Dataset] | None = None,
+                 unreadable: Mapping[str, Mapping[str, str]] | None = None
                  ) -> list[dict[str, object]]:
     """Verdicts of every claim in ``CLAIMS`` order (see :func:`evaluate`); ``twin_runs``:
     the profile's perturbed twin runs, if any were made (:func:`perturbed_view`);
-    ``native_runs``: its native twin runs, if any (:func:`replaced_view`).
+    ``native_runs``: its native twin runs, if any (:func:`replaced_view`);
+    ``unreadable``: result key -> record of a result file that is damaged
+    (:func:`thesis.store.scan_results`): the claims that need one are ``not_run`` naming
+    it (:func:`mark_unreadable`), every other claim is decided as usual.
 
     ``n_resamples`` (config ``report.bootstrap_resamples``) sets the resamples of
     :func:`thesis.claims.stats.bootstrap_mean`; no decision rule resamples any more (rule 3
@@ -163,6 +196,8 @@ def evaluate_all(results: Mapping[str, xr.Dataset], *,
     view = perturbed_view(results, twin_runs)
     other = replaced_view(results, native_runs)
     if n_resamples is None:
-        return [evaluate(c, results, view, other) for c in CLAIMS]
-    with stats.resamples(n_resamples):
-        return [evaluate(c, results, view, other) for c in CLAIMS]
+        out = [evaluate(c, results, view, other) for c in CLAIMS]
+    else:
+        with stats.resamples(n_resamples):
+            out = [evaluate(c, results, view, other) for c in CLAIMS]
+    return [mark_unreadable(v, unreadable or {}) for v in out]

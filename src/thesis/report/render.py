@@ -25,7 +25,9 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 from thesis import provenance, store
+from thesis.errors import DamagedFileError
 from thesis.report.chapters import CHAPTERS
+from thesis.report import damaged as D
 from thesis.report import measurements, status
 from thesis.report import verdicts as V
 from thesis.report.model import NOT_RUN, Figure, Section, Table
@@ -66,11 +68,15 @@ def _chapter_results(results: dict, ch: str) -> dict:
 
 
 def render_figures(ch: str, profile: str, outdir: Path, *, config: dict | None = None,
-                   results_root: Path = store.RESULTS_DIR) -> list[Figure]:
-    """Render chapter ``ch``'s figures into ``outdir/figures/<ch>/`` and its manifest."""
+                   results_root: Path = store.RESULTS_DIR,
+                   scanned: tuple[dict, dict] | None = None) -> list[Figure]:
+    """Render chapter ``ch``'s figures into ``outdir/figures/<ch>/`` and its manifest.
+    ``scanned``: the profile's results as :func:`thesis.store.scan_results` read them
+    (default: read here); a damaged file is left out, as if not run."""
     figdir = Path(outdir) / "figures" / ch
     figdir.mkdir(parents=True, exist_ok=True)
-    results = _chapter_results(store.load_results(profile, results_root), ch)
+    scanned = scanned or store.scan_results(profile, results_root)
+    results = _chapter_results(scanned[0], ch)
     mod = _chapter_module(ch)
     figs: list[Figure] = []
     if mod is not None and results:
@@ -129,7 +135,7 @@ def twin_sections(profile: str, results_root: Path = store.RESULTS_DIR
     out = []
     for kind, flag in TWIN_KINDS:
         name = store.results_name(profile, **{flag: True})
-        twins = store.load_results(name, results_root)
+        twins, _ = store.scan_results(name, results_root)  # damaged ones: check's list
         sections = []
         for ch, title in CHAPTERS.items():
             mod = _chapter_module(ch)
@@ -314,9 +320,9 @@ def _section_claims(claims: list[dict], ch: str) -> list[dict]:
 
 
 def _summary_md(profile: str, sections: list[Section], claims: list[dict],
-                results: dict, power: dict | None = None, decided: dict | None = None,
-                twins: list | None = None) -> str:
-    lines = [f"# Thesis reproduction — profile `{profile}`", ""]
+                results: dict, power: dict | None = None, damaged=(),
+                decided: dict | None = None, twins: list | None = None) -> str:
+    lines = [f"# Thesis reproduction — profile `{profile}`", "", *D.damaged_md(list(damaged))]
     lines += status.status_md(status.chapter_status(results, claims),
                               status.optional_runs(results, decided or {}, profile))
     lines += ["Claims: " + ", ".join(f"{k} {v}" for k, v in V.counts(claims).items()), "",
@@ -346,14 +352,32 @@ def _summary_md(profile: str, sections: list[Section], claims: list[dict],
     return "\n".join(lines)
 
 
+def damaged_files(profile: str, results_root: Path,
+                  damaged: dict[str, DamagedFileError]) -> list[DamagedFileError]:
+    """The damaged result files a report names: ``damaged`` (the profile's own, as
+    :func:`thesis.store.scan_results` found them now) and those ``claims.json`` recorded
+    (its twin runs' too), each path once."""
+    out = {e.path: e for e in damaged.values()}
+    claims_path = Path(results_root) / profile / "claims.json"
+    if claims_path.exists():
+        for d in json.loads(claims_path.read_text()).get("damaged", []):
+            out.setdefault(d["path"], DamagedFileError(d["path"], d["role"], d["cause"],
+                                                       d["remake"]))
+    return list(out.values())
+
+
 def render_report(profile: str, outdir: Path, *, config: dict | None = None,
                   results_root: Path = store.RESULTS_DIR,
-                  bench_root: Path = Path("benchmarks")) -> Path:
+                  bench_root: Path = Path("benchmarks"),
+                  scanned: tuple[dict, dict] | None = None) -> Path:
     """Write ``index.html``, ``summary.md``, ``measurements.md`` (jobs' wall time and memory
     from ``bench_root``, :mod:`thesis.report.measurements`) and ``tables/*.html`` under
-    ``outdir``."""
+    ``outdir``. ``scanned``: the profile's results as :func:`thesis.store.scan_results`
+    read them (default: read here); damaged files (:func:`damaged_files`) are named at the
+    top of the page and of the summary, and what reads them shows "not run"."""
     outdir = Path(outdir)
-    results = store.load_results(profile, results_root)
+    results, damaged = scanned or store.scan_results(profile, results_root)
+    damaged = damaged_files(profile, results_root, damaged)
     claims_path = Path(results_root) / profile / "claims.json"
     decided = json.loads(claims_path.read_text()) if claims_path.exists() else {}
     claims = decided.get("claims", [])
@@ -364,6 +388,7 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     verdicts = ", ".join(f"{html.escape(k)} <b>{v}</b>" for k, v in V.counts(claims).items())
     body = [f"<h1>Incorporating Prior Knowledge into Deep Neural Network Controllers of "
             f"Legged Robots — reproduction, profile <code>{html.escape(profile)}</code></h1>",
+            D.damaged_html(damaged),
             f"<nav><a href=#method>method</a>{nav}<a href=#claims>claims</a>"
             "<a href=#provenance>provenance</a></nav>",
             status.status_html(status.chapter_status(results, claims),
@@ -407,8 +432,8 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     with store.atomic_path(index) as tmp:
         tmp.write_text(_page(f"Thesis reproduction ({profile})", "\n".join(body)))
     with store.atomic_path(outdir / "summary.md") as tmp:
-        tmp.write_text(_summary_md(profile, sections, claims, results, power, decided,
-                                  twins))
+        tmp.write_text(_summary_md(profile, sections, claims, results, power, damaged,
+                                  decided, twins))
     with store.atomic_path(outdir / "measurements.md") as tmp:
         tmp.write_text(measurements.measurements_md(profile, results, bench_root))
     return index
