@@ -390,3 +390,18 @@ def test_a_verdict_the_perturbed_twins_move_is_fragile():
     assert twinned == {"ch6/trot"} and view["ch6/walk"] is ds
     assert float(view["ch6/trot"]["success"].sum()) == 0.0
     assert float(moved["success"].sum()) == 1.0  # the input is not changed
+
+
+def test_every_chapter_6_claim_has_a_sentence_form():
+    """forms.CLAIM_FORMS reads each chapter-6 claim's sentence in one of the listed forms;
+    the existential ones are decided as existence (the rate beside it)."""
+    from thesis.claims import forms
+
+    ids = {c.id for c in ch6.CLAIMS}
+    listed = {k for k in forms.CLAIM_FORMS if k.startswith("ch6.")}
+    assert listed == ids
+    for cid, (kinds, why) in forms.CLAIM_FORMS.items():
+        assert set(kinds) <= set(forms.FORMS) and why, cid
+    one = sweep(["h50_b5"], rows(1))
+    v = check("ch6.trot_h50_b5_stable", trot=one)
+    assert "existence" in v.statistic and "rate" in v.measured
