@@ -162,22 +162,6 @@ def unclear_why(label: str, rate: float, n: int) -> str:
     return why
 
 
-def _works_claim(rate: float, n: int, label: str, *, works_is: str) -> Verdict:
-    """Verdict of "``label`` works" (``works_is="reproduced"``) or "``label`` fails"."""
-    j = judge(rate, n)
-    measured = {f"{label}_success_rate": rate, "n_seeds": n,
-                f"{label}_p_works": p_works(rate, n)}
-    statistic = f"success rate over seeds; {SUCCESS_RULE}"
-    if n < stats.MIN_SEEDS:
-        return Verdict("inconclusive", measured, statistic,
-                       f"only {n} seed(s); at least {stats.MIN_SEEDS} are needed")
-    if j == "unclear":
-        return Verdict("inconclusive", measured, statistic, unclear_why(label, rate, n))
-    verdict = works_is if j == "works" else (
-        "not_reproduced" if works_is == "reproduced" else "reproduced")
-    return Verdict(verdict, measured, statistic, f"{label} {j} (success rate {rate:.2f})")
-
-
 def minimal_per_seed(success, values) -> np.ndarray:
     """Per seed, the smallest grid value from which the seed succeeds at every larger one.
 

@@ -6,30 +6,27 @@ give a wanted verdict. :data:`FORMS` lists the forms and their rules
 of its sentence that decide it. Chapter 6 is filled in here; the other chapters' claims
 are added by their owners with the same forms.
 
-=================  ===================================  =======================================
-form               the sentence says                    rule
-=================  ===================================  =======================================
-existential        "was found", "can", "is possible",   :func:`~thesis.claims.stats.decide_exists`:
-                   "we have shown that ... can"         reproduced when one seed shows it, the
-                                                        rate (Clopper-Pearson) beside it
-usual              what the method does as a rule:      a rate with an unclear band: "in most
-                   "learns in", "works", "fails",       runs" (rule 10, binomial against 1/2),
-                   "does not always"                    or chapter 6's rate rule
-                                                        (:func:`~thesis.claims.stats.judge_rate`:
-                                                        works / fails / unclear)
-some_config        it holds for some setting of a       Holm's correction over the settings
-                   sweep                                (:func:`~thesis.claims.stats.decide_any`,
-                                                        :func:`thesis.claims.ch6.holm_works`)
-comparative        A beats / outperforms / is faster    rule 4 (:func:`~thesis.claims.stats.decide_beats`)
-                   than B
-similar            A is like / comparable to B          rule 5 (:func:`~thesis.claims.stats.decide_equivalent`;
-                                                        ratios on their logarithm)
-bound              X is below / above a number          rule 6 (:func:`~thesis.claims.stats.decide_threshold`)
-relation           X goes with / determines Y           rule 6 on a per-seed rank correlation
-                                                        (one value per seed, rule 1)
-conjunction        several sentences at once            :func:`~thesis.claims.stats.combine`
-                                                        (all parts; a contradiction after Holm)
-=================  ===================================  =======================================
+=============  ======================================  ===================================
+form           the sentence says                       rule (:mod:`thesis.claims.stats`)
+=============  ======================================  ===================================
+existential    "was found", "can", "is possible",      ``decide_exists``: reproduced when
+               "we have shown that ... can"            one seed shows it, the rate
+                                                       (Clopper-Pearson) beside it
+usual          what the method does as a rule:         a rate with an unclear band: "in
+               "learns in", "works", "fails"           most runs" (rule 10) or chapter 6's
+                                                       ``judge_rate`` (works / fails /
+                                                       unclear)
+some_config    it holds for some setting of a sweep    Holm over the settings
+                                                       (``decide_any``, ``ch6.holm_works``)
+comparative    A beats / outperforms / is faster       rule 4, ``decide_beats``
+similar        A is like / comparable to B             rule 5, ``decide_equivalent``
+                                                       (ratios on their logarithm)
+bound          X is below / above a number             rule 6, ``decide_threshold``
+relation       X goes with / determines Y              rule 6 on a per-seed rank
+                                                       correlation (one value per seed)
+conjunction    several sentences at once               ``combine``: all parts; a part
+                                                       contradicts after Holm
+=============  ======================================  ===================================
 
 Runs that can fail (fell, at chance, diverged) are read with their failure indicator
 (rule 3b, :func:`~thesis.claims.stats.mixture_interval`) whatever the form.

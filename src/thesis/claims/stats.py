@@ -36,10 +36,11 @@ Rules (applied uniformly by the decision helpers below):
    1956), so this is stated, kept visible as a strict expected failure of the calibration
    test, and checks of ratios decide on their logarithm. The same holds for 5 and 10
    seeds of a discrete count skewed away from the claimed side (a count of 4 trials at
-   0.8, "above" its mean: about 8 % and 5 %). *Runs that fail* are the extreme of that skew: with 80 % of runs near 1.0
-   and 20 % near 0.2 the t interval said "above the mean" in 38 %, 34 % and 12 % of
-   samples at 3, 5 and 10 seeds (3 seeds see no failure half the time and the interval
-   trusts them), and "A beats a never-failing B of the same mean" in 30 %, 28 % and 10 %.
+   0.8, "above" its mean: about 8 % and 5 %). *Runs that fail* are the extreme of that
+   skew: with 80 % of runs near 1.0 and 20 % near 0.2 the t interval said "above the
+   mean" in 38 %, 34 % and 12 % of samples at 3, 5 and 10 seeds (3 seeds see no failure
+   half the time and the interval trusts them), and "A beats a never-failing B of the
+   same mean" in 30 %, 28 % and 10 % (400 draws per cell).
    So the t interval of rules 4-6 and 9 *assumes runs without a failure mode*; a check
    whose runs can fail passes its failure indicator and is decided by rule 3b.
 3b. **Runs that fail** (``failed=``: one flag per seed, the chapter's own indicator: fell,
