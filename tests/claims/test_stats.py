@@ -371,3 +371,12 @@ def test_judge_rate_needs_each_test_and_the_others_silence():
     # both tests reject in the band
     p_works, p_fails = stats.rate_pvalues(15, 40, **kw)
     assert p_works <= stats.ONE_SIDED and p_fails <= stats.ONE_SIDED
+
+
+def test_rule_9_passes_the_effects_p_to_combine():
+    """"A better" contradicted by the effect (B better over seeds) carries the effect's
+    one-sided p; "no seed reaches the thesis's p" is a count and carries none."""
+    a, b = _runs(-1.0, seeds=5, gens=4, n=10, rng=2)
+    v = stats.decide_runs_over_generations(a, b, bound=0.05, claim="better")
+    assert v.status == "not_reproduced"
+    assert 0 < v.measured["p_not_reproduced"] < stats.ONE_SIDED

@@ -943,6 +943,8 @@ def decide_runs_over_generations(a, b, *, bound: float, claim: str, label_a: str
     within_small = below_small and bool(np.isfinite(lo) and lo > -SMALL_A_EFFECT)
     if claim == "better":
         if E == "not_reproduced":
+            # the effect's own p, so that combine can correct this part over a claim's parts
+            measured["p_not_reproduced"] = eff.measured["p_not_reproduced"]
             return Verdict("not_reproduced", measured, statistic,
                            f"{label_b} outperforms {label_a} over seeds ({eff.detail}); {where}")
         if k == 0:
