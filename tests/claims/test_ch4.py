@@ -187,7 +187,9 @@ def test_three_of_four_and_except_rocky():
 def test_better_gaits_in_all_cases():
     ok = dict(table4_2=table4_2(0.1), table4_3=table4_3(0.13), table4_4=table4_4(0.05))
     assert check("ch4.transfer_gives_better_gaits_in_all_cases", **ok).status == "reproduced"
-    bad = dict(ok, table4_4=table4_4(-0.05))
+    # one condition of four against the claim, at Holm's family level (-0.05: p = 0.0075
+    # for that part alone, 4 x p > 0.025, inconclusive)
+    bad = dict(ok, table4_4=table4_4(-0.1))
     assert check("ch4.transfer_gives_better_gaits_in_all_cases",
                  **bad).status == "not_reproduced"
 

@@ -310,3 +310,73 @@ def test_batched_run_statistics_match_the_per_generation_loop():
     looped = stats.run_statistics(a_nan, b)
     for k in ("p_greater", "p_two_sided", "effect"):
         np.testing.assert_allclose(batched[k][1:], looped[k][1:], rtol=1e-12)
+
+
+# ---------------------------------------------------------------- rule 3b: runs that fail
+
+def test_mixture_interval_bounds_the_mean_over_the_box():
+    """Two parts (declared failure range): pi by Clopper-Pearson, w by t, each at
+    confidence 1 - 0.05 / 2; the low end is the smallest mean over the box."""
+    from scipy import stats as sps
+
+    x = np.r_[np.linspace(0.95, 1.05, 18), [0.2, 0.25]]
+    failed = np.r_[np.zeros(18), np.ones(2)]
+    ci = stats.mixture_interval(x, failed, failure_bounds=(0.0, 0.4))
+    level = 1 - 0.05 / 2
+    p_lo, p_hi = stats.clopper_pearson(2, 20, confidence=level)
+    w = x[:18]
+    half = sps.t.ppf((1 + level) / 2, 17) * w.std(ddof=1) / np.sqrt(18)
+    assert ci.method == "mixture" and ci.n == 20 and ci.mean == pytest.approx(x.mean())
+    assert ci.low == pytest.approx((1 - p_hi) * (w.mean() - half) + p_hi * 0.0)
+    assert ci.high == pytest.approx(max((1 - p_lo) * (w.mean() + half) + p_lo * 0.4,
+                                        (1 - p_hi) * (w.mean() + half) + p_hi * 0.4))
+    # NaN values drop their flags; a length mismatch and reversed bounds are errors
+    assert stats.mixture_interval([1.0, np.nan, 0.9], [0, 1, 0],
+                                  failure_bounds=(0, 0.4)).n == 2
+    with pytest.raises(ValueError, match="flags"):
+        stats.mixture_interval([1.0, 0.9], [0, 0, 1])
+    with pytest.raises(ValueError, match="low, high"):
+        stats.mixture_interval([1.0, 0.9, 1.1], [0, 0, 0], failure_bounds=(0.4, 0.0))
+    with pytest.raises(ValueError, match="needs failed"):
+        stats.decide_threshold([1.0, 0.9, 1.1], bound=0.5, below=False,
+                               failure_bounds=(0.0, 0.4))
+
+
+def test_failure_aware_rules_decide_when_the_seeds_allow_it():
+    """Forty seeds with 2 failures at chance: the mean is shown above 0.6; the same
+    values without the flags give the t interval; the verdict lists the failures."""
+    x = np.r_[np.linspace(0.95, 1.05, 38), [0.2, 0.22]]
+    f = np.r_[np.zeros(38), np.ones(2)]
+    v = stats.decide_threshold(x, bound=0.6, below=False, failed=f, failure_bounds=(0, 0.4))
+    assert v.status == "reproduced" and v.measured["n_seeds_failed"] == 2
+    assert "rule 3b" in v.statistic
+    plain = stats.decide_threshold(x, bound=0.6, below=False)
+    assert plain.status == "reproduced" and "failure mode" in plain.statistic
+    b = np.full(40, 0.5)
+    v = stats.decide_beats(x, b, higher_is_better=True, failed=f, failure_bounds=(-0.5, 0.0))
+    assert v.status == "reproduced" and np.isnan(v.measured["p_one_sided"])
+    # two failures at -0.75 of 40 may be up to ~19 % of runs: that much at -1 (the declared
+    # worst) moves the mean by about -0.2, so a margin of 0.1 cannot be shown, 0.2 can
+    d = x - 0.95
+    e = stats.decide_equivalent(d, margin=0.1, failed=f, failure_bounds=(-1.0, 0.0))
+    assert e.status == "inconclusive" and e.measured["difference_ci_low"] < -0.1
+    e = stats.decide_equivalent(d, margin=0.2, failed=f, failure_bounds=(-1.0, 0.0))
+    assert e.status == "reproduced"
+
+
+def test_judge_rate_needs_each_test_and_the_others_silence():
+    kw = dict(works_rate=0.6, fails_rate=0.2)
+    assert [stats.judge_rate(k, 40, **kw) for k in (13, 14, 17, 18)] == [
+        "fails", "unclear", "unclear", "works"]
+    # both tests reject in the band
+    p_works, p_fails = stats.rate_pvalues(15, 40, **kw)
+    assert p_works <= stats.ONE_SIDED and p_fails <= stats.ONE_SIDED
+
+
+def test_rule_9_passes_the_effects_p_to_combine():
+    """"A better" contradicted by the effect (B better over seeds) carries the effect's
+    one-sided p; "no seed reaches the thesis's p" is a count and carries none."""
+    a, b = _runs(-1.0, seeds=5, gens=4, n=10, rng=2)
+    v = stats.decide_runs_over_generations(a, b, bound=0.05, claim="better")
+    assert v.status == "not_reproduced"
+    assert 0 < v.measured["p_not_reproduced"] < stats.ONE_SIDED

@@ -11,9 +11,16 @@ alone (see the module text of :mod:`thesis.claims.stats`).
 
 :func:`power_table` gives the other side: the probability of "reproduced" when the claim
 is true, per seed count and true effect (in standard deviations of the per-seed
-difference), for rules 4, 5 and 10, and for chapter 6's "a configuration works / fails"
+difference), for rules 4, 5 and 10, for chapter 6's "a configuration works / fails"
 (:func:`thesis.claims.stats.judge_rate`, exact) at the seed counts chapter 6 runs,
-:data:`RATE_SEED_COUNTS`. ``thesis check`` writes it to
+:data:`RATE_SEED_COUNTS`, and for rule 6 on runs that fail (rule 3b) up to 40 seeds.
+
+Laws (:data:`ALL_LAWS`): normal, exponential and Student t (2 df) (:data:`LAWS`);
+failure mixtures, 10, 20 and 30 % of runs near 0.2 and the rest near 1.0
+(:data:`FAILURE_LAWS`; the rules get each seed's failure flag, as a chapter passes its
+own: fell, at chance, diverged); discrete values, a count of 4 trials
+(:data:`DISCRETE_LAWS`). :func:`false_not_reproduced_combined` calibrates a multi-part
+claim's "not reproduced" (:func:`thesis.claims.stats.combine`). ``thesis check`` writes it to
 ``results/<profile>/claims_power.json`` and the report shows it in its method section.
 
 Every simulation draws from a generator seeded by its arguments, so the tables are
@@ -24,9 +31,11 @@ on an earlier version too).
 
 from __future__ import annotations
 
+import inspect
 import types
 import zlib
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import integrate, optimize
@@ -54,6 +63,12 @@ RATES = (0.75, 0.9, 1.0)
 #: far below that of one that works (:data:`thesis.claims.ch6.WORKS_RATE`).
 WORKS_RATES = (0.4, 0.6, 0.8)
 FAILS_RATES = (0.4, 0.2, 0.0)
+#: Failure rates of the power rows of rule 3b (runs that fail), and the seed counts they
+#: are shown at (beyond the profiles' 3-10: how many seeds such a claim needs).
+FAILURE_RATES = (0.1, 0.2, 0.3)
+FAILURE_SEED_COUNTS = (3, 5, 10, 20, 40)
+#: Bound of those rows' "the mean is above": below every mixture's mean (0.76-0.92).
+FAILURE_POWER_BOUND = 0.6
 
 #: Per-seed laws, as frozen scipy distributions: normal, skewed (exponential) and
 #: heavy-tailed (Student t with 2 degrees of freedom: infinite variance).
@@ -64,15 +79,98 @@ LAWS: dict[str, sps.rv_continuous] = {
 }
 
 
+@dataclass(frozen=True)
+class FailureMixture:
+    """Per-seed law of runs that sometimes fail: a share ``rate`` of runs gives values
+    near ``fail`` (normal, sd ``sd``), the rest near ``work``; a failed run's value is far
+    from the rest (16 sd). ``declared`` is the range a chapter declares for a failed
+    run's value (wider than the truth), passed to the rules as ``failure_bounds``.
+    Units: the value's own (think of an accuracy in [0, 1])."""
+
+    rate: float
+    work: float = 1.0
+    fail: float = 0.2
+    sd: float = 0.05
+    declared: tuple[float, float] = (0.0, 0.4)
+
+    def mean(self) -> float:
+        return (1.0 - self.rate) * self.work + self.rate * self.fail
+
+    def cdf(self, x: float) -> float:
+        return float((1.0 - self.rate) * sps.norm.cdf(x, self.work, self.sd)
+                     + self.rate * sps.norm.cdf(x, self.fail, self.sd))
+
+    def ppf(self, q: float) -> float:
+        return float(optimize.brentq(lambda x: self.cdf(x) - q, self.fail - 10 * self.sd,
+                                     self.work + 10 * self.sd, xtol=1e-12))
+
+    def median(self) -> float:
+        return self.ppf(0.5)
+
+    def draw(self, rng: np.random.Generator, shape) -> tuple[np.ndarray, np.ndarray]:
+        """(values, failed) of shape ``shape``."""
+        failed = rng.random(shape) < self.rate
+        x = np.where(failed, self.fail, self.work) + self.sd * rng.standard_normal(shape)
+        return x, failed
+
+    def rvs(self, size, random_state: np.random.Generator) -> np.ndarray:
+        return self.draw(random_state, size)[0]
+
+
+#: Laws of runs that fail (issue 54): 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
+FAILURE_LAWS: dict[str, FailureMixture] = {
+    f"fail{int(round(100 * r))}": FailureMixture(r) for r in (0.1, 0.2, 0.3)}
+#: Discrete per-seed values (a count of 4 trials: many ties, all seeds equal often):
+#: symmetric (Binomial(4, 0.5)) and skewed (Binomial(4, 0.8)).
+DISCRETE_LAWS: dict[str, sps.rv_discrete] = {
+    "binomial4_half": sps.binom(4, 0.5),
+    "binomial4_0.8": sps.binom(4, 0.8),
+}
+#: Every law of the calibration, by name.
+ALL_LAWS = {**LAWS, **FAILURE_LAWS, **DISCRETE_LAWS}
+#: Rule 9's "not worse" null needs a continuous law (the shift to a given A12) or a
+#: failure mixture (the two runs' failure rates apart by twice the margin).
+NOT_WORSE_LAWS = (*LAWS, *FAILURE_LAWS)
+
+
 def _rng(*key: object) -> np.random.Generator:
     """Generator seeded by :data:`SEED` and ``key`` (stable across processes)."""
     return np.random.default_rng([SEED, zlib.crc32(repr(key).encode())])
 
 
 def _draw(law: str, rng: np.random.Generator, shape) -> np.ndarray:
-    """Draws of ``LAWS[law]`` of shape ``shape``, shifted to mean 0."""
-    dist = LAWS[law]
-    return dist.rvs(size=shape, random_state=rng) - dist.mean()
+    """Draws of ``ALL_LAWS[law]`` of shape ``shape``, shifted to mean 0."""
+    return _draw_failed(law, rng, shape)[0]
+
+
+def _draw_failed(law: str, rng: np.random.Generator, shape) -> tuple[np.ndarray, np.ndarray]:
+    """(draws shifted to mean 0, failed flags) of ``ALL_LAWS[law]``; no run fails
+    outside :data:`FAILURE_LAWS`."""
+    dist = ALL_LAWS[law]
+    if isinstance(dist, FailureMixture):
+        x, failed = dist.draw(rng, shape)
+        return x - dist.mean(), failed
+    x = np.asarray(dist.rvs(size=shape, random_state=rng), float) - float(dist.mean())
+    return x, np.zeros(np.shape(x), bool)
+
+
+def _failure_kw(rules, fn: str, law: str, failed, bounds) -> dict:
+    """``failed=`` and ``failure_bounds=`` for ``rules.<fn>`` under a failure law (the
+    chapter knows its failure indicator), when ``rules`` takes them (an earlier version of
+    the rules does not: its before-table runs without)."""
+    if law not in FAILURE_LAWS or "failed" not in inspect.signature(
+            getattr(rules, fn)).parameters:
+        return {}
+    return {"failed": failed, "failure_bounds": bounds}
+
+
+def _discrete_kw(rules, fn: str, law: str) -> dict:
+    """``discrete=True`` for ``rules.<fn>`` under a discrete law (the chapter knows its
+    values are counts), when ``rules`` takes it."""
+    if law not in DISCRETE_LAWS or "discrete" not in inspect.signature(
+            getattr(rules, fn)).parameters:
+        return {}
+    return {"discrete": True}
 
 
 def shift_for_a12(law: str, a12: float) -> float:
@@ -88,37 +186,102 @@ def shift_for_a12(law: str, a12: float) -> float:
 
 
 # ------------------------------------------------------------------ one null per rule
+#: Equivalence margin of rule 5's null: 1 sd of the continuous and discrete laws, 0.1 in
+#: the value units of a failure mixture (an accuracy, say).
+MARGIN = 1.0
+FAILURE_MARGIN = 0.1
+
+
+def _partner(law: str, rng: np.random.Generator, n: int) -> np.ndarray:
+    """Method B of rules 4 and 5 under a failure law: runs that never fail, normal about
+    the mixture's mean (0 after the shift) with its within-component sd: "A beats B" with
+    the same mean, A's runs sometimes failing (the issue's probe)."""
+    return FAILURE_LAWS[law].sd * rng.standard_normal(n)
+
+
+def _difference_bounds(law: str, shift: float = 0.0) -> tuple[float, float]:
+    """Declared range of A - B on a seed where A failed (B near the working value): a
+    failed A loses at most the declared failure range's distance below a working run and
+    gains at most its distance above a failed one."""
+    d = FAILURE_LAWS[law]
+    return (d.declared[0] - d.work + shift, d.declared[1] - d.fail + shift)
+
+
 def _null_beats(rules, law, n, rng):
+    if law in FAILURE_LAWS:
+        a, fa = _draw_failed(law, rng, n)
+        kw = _failure_kw(rules, "decide_beats", law, fa, _difference_bounds(law))
+        return rules.decide_beats(a, _partner(law, rng, n), higher_is_better=True,
+                                  **kw).status
     a, b = _draw(law, rng, n), _draw(law, rng, n)
-    return rules.decide_beats(a, b, higher_is_better=True).status
+    return rules.decide_beats(a, b, higher_is_better=True,
+                              **_discrete_kw(rules, "decide_beats", law)).status
 
 
 def _null_equivalent(rules, law, n, rng):
     # true difference exactly at the margin: A's per-seed values one margin above B's
-    margin = 1.0
-    a, b = _draw(law, rng, n) + margin, _draw(law, rng, n)
-    return rules.decide_equivalent(a - b, margin=margin).status
+    if law in FAILURE_LAWS:
+        m = FAILURE_MARGIN
+        a, fa = _draw_failed(law, rng, n)
+        kw = _failure_kw(rules, "decide_equivalent", law, fa, _difference_bounds(law, m))
+        return rules.decide_equivalent(a + m - _partner(law, rng, n), margin=m, **kw).status
+    a, b = _draw(law, rng, n) + MARGIN, _draw(law, rng, n)
+    return rules.decide_equivalent(a - b, margin=MARGIN,
+                                   **_discrete_kw(rules, "decide_equivalent", law)).status
 
 
 def _null_threshold(below: bool):
     def null(rules, law, n, rng):
-        # mean exactly at the bound; the law's skew points up, so for "below" it points
-        # away from the claimed side and for "above" towards it
-        return rules.decide_threshold(_draw(law, rng, n), bound=0.0, below=below).status
+        # mean exactly at the bound; the law's skew (a mixture's failures) points down, so
+        # for "below" it points towards the claimed side and for "above" away from it
+        # (the continuous laws' skew points up: the other way round)
+        x, failed = _draw_failed(law, rng, n)
+        kw = _discrete_kw(rules, "decide_threshold", law)
+        if law in FAILURE_LAWS:
+            d = FAILURE_LAWS[law]
+            kw = _failure_kw(rules, "decide_threshold", law, failed,
+                             (d.declared[0] - d.mean(), d.declared[1] - d.mean()))
+        return rules.decide_threshold(x, bound=0.0, below=below, **kw).status
     return null
 
 
 def _null_censored(rules, law, n, rng):
-    # both methods' true costs from one law; a run stops at the budget (the law's 70th
-    # percentile) and then reports what it spent, right-censored
-    budget = float(LAWS[law].ppf(0.7) - LAWS[law].mean())
-    ca, cb = _draw(law, rng, n), _draw(law, rng, n)
+    # both methods' true costs from one law; a run stops at the budget (the 70th
+    # percentile of the cost) and then reports what it spent, right-censored. Under a
+    # failure law the cost is minus the value: a failed run costs far more than the rest.
+    sign = -1.0 if law in FAILURE_LAWS else 1.0
+    dist = ALL_LAWS[law]
+    q = 0.3 if sign < 0 else 0.7
+    budget = float(sign * (dist.ppf(q) - dist.mean()))
+    ca, cb = sign * _draw(law, rng, n), sign * _draw(law, rng, n)
     ad, bd = ca <= budget, cb <= budget
     return rules.decide_fewer_censored(np.minimum(ca, budget), ad, np.minimum(cb, budget),
                                        bd).status
 
 
+def _failing_runs(law: str, rng: np.random.Generator, n: int, rate_a: float, rate_b: float):
+    """(a, b, failed) particle scores (n, G, N) of two runs per seed under a failure law:
+    a seed's run of A fails with probability ``rate_a`` (then every particle scores near
+    the failure value), B's with ``rate_b``; ``failed``: either run of the seed failed."""
+    d = FAILURE_LAWS[law]
+    shape = (n, RUN_GENERATIONS, RUN_PARTICLES)
+    fa, fb = rng.random(n) < rate_a, rng.random(n) < rate_b
+    a = np.where(fa[:, None, None], d.fail, d.work) + d.sd * rng.standard_normal(shape)
+    b = np.where(fb[:, None, None], d.fail, d.work) + d.sd * rng.standard_normal(shape)
+    return a, b, fa | fb
+
+
+#: Declared range of rule 9's per-seed effect (A12 - 0.5) on a seed where a run failed.
+EFFECT_BOUNDS = (-0.5, 0.5)
+
+
 def _null_runs_better(rules, law, n, rng):
+    if law in FAILURE_LAWS:
+        rate = FAILURE_LAWS[law].rate
+        a, b, failed = _failing_runs(law, rng, n, rate, rate)
+        kw = _failure_kw(rules, "decide_runs_over_generations", law, failed, EFFECT_BOUNDS)
+        return rules.decide_runs_over_generations(a, b, bound=stats.ALPHA, claim="better",
+                                                  **kw).status
     shape = (n, RUN_GENERATIONS, RUN_PARTICLES)
     a, b = _draw(law, rng, shape), _draw(law, rng, shape)
     return rules.decide_runs_over_generations(a, b, bound=stats.ALPHA, claim="better").status
@@ -128,6 +291,14 @@ _SHIFTS: dict[str, float] = {}
 
 
 def _null_not_worse(rules, law, n, rng):
+    if law in FAILURE_LAWS:
+        # A's runs fail 2 x SMALL_A_EFFECT more often than B's: a seed where only A fails
+        # has A12 = 0 (effect -0.5), only B +0.5, so the true mean effect is exactly
+        # -SMALL_A_EFFECT (the runs' values are far apart; equal status: 0 on average)
+        rate, e = FAILURE_LAWS[law].rate, stats.SMALL_A_EFFECT
+        a, b, failed = _failing_runs(law, rng, n, rate + e, rate - e)
+        kw = _failure_kw(rules, "decide_not_worse", law, failed, EFFECT_BOUNDS)
+        return rules.decide_not_worse(a, b, **kw).status
     # per-particle shift that makes the true A12 - 0.5 exactly -SMALL_A_EFFECT
     if law not in _SHIFTS:
         _SHIFTS[law] = shift_for_a12(law, 0.5 - stats.SMALL_A_EFFECT)
@@ -153,12 +324,22 @@ NULLS: dict[str, Callable] = {
     "rule9_not_worse": _null_not_worse,
     "rule10_majority": _null_majority,
 }
+#: The laws each rule's null is simulated under (rule 10's events are flags: the law only
+#: decides which seeds show the event, exactly half of them).
+RULE_LAWS: dict[str, tuple[str, ...]] = {
+    **{r: tuple(ALL_LAWS) for r in NULLS},
+    "rule9_not_worse": NOT_WORSE_LAWS,
+    "rule10_majority": tuple(LAWS),
+}
 
 
 def false_reproduced(rule: str, n: int, law: str, *, reps: int,
                      rules: types.ModuleType = stats) -> float:
     """Share of ``reps`` simulated nulls of ``rule`` (a key of :data:`NULLS`) with ``n``
-    seeds and per-seed law ``law`` that ``rules`` calls "reproduced"."""
+    seeds and per-seed law ``law`` (a key of :data:`ALL_LAWS`) that ``rules`` calls
+    "reproduced"."""
+    if law not in RULE_LAWS[rule]:
+        raise ValueError(f"{rule} is not simulated under {law!r}: {RULE_LAWS[rule]}")
     rng = _rng("null", rule, n, law)
     hits = sum(NULLS[rule](rules, law, n, rng) == "reproduced" for _ in range(reps))
     return hits / reps
@@ -172,12 +353,31 @@ def monte_carlo_bound(level: float, reps: int, k: float = 3.0) -> float:
 def calibration_table(*, reps: int, rules: types.ModuleType = stats,
                       rule_names: Sequence[str] = tuple(NULLS),
                       ns: Sequence[int] = SEED_COUNTS,
-                      laws: Sequence[str] = tuple(LAWS)) -> list[dict]:
-    """False-"reproduced" rate per rule, seed count and law: a list of
-    ``{"rule", "n_seeds", "law", "rate", "reps", "nominal"}``."""
+                      laws: Sequence[str] | None = None) -> list[dict]:
+    """False-"reproduced" rate per rule, seed count and law (every law of
+    :data:`RULE_LAWS` unless ``laws``): a list of ``{"rule", "n_seeds", "law", "rate",
+    "reps", "nominal"}``."""
     return [{"rule": r, "n_seeds": n, "law": law, "reps": reps, "nominal": stats.ONE_SIDED,
              "rate": false_reproduced(r, n, law, reps=reps, rules=rules)}
-            for r in rule_names for n in ns for law in laws]
+            for r in rule_names for n in ns for law in RULE_LAWS[r]
+            if laws is None or law in laws]
+
+
+def false_not_reproduced_combined(parts: int, n: int, *, reps: int,
+                                  rules: types.ModuleType = stats) -> float:
+    """Share of ``reps`` claims of ``parts`` parts, each rule 6 ("above") with normal
+    per-seed values whose mean lies exactly at the bound (every part true at the
+    boundary), that ``rules.combine`` calls "not_reproduced" with ``n`` seeds per part:
+    the false-"not reproduced" rate of a multi-part claim (``ch5.rc_touch_best_overall``
+    has 15 parts)."""
+    rng = _rng("combine", parts, n)
+    hits = 0
+    for _ in range(reps):
+        x = rng.standard_normal((parts, n))
+        v = rules.combine({f"p{i}": rules.decide_threshold(r, bound=0.0, below=False)
+                           for i, r in enumerate(x)})
+        hits += v.status == "not_reproduced"
+    return hits / reps
 
 
 # ------------------------------------------------------------------ power
@@ -193,6 +393,21 @@ def _power_equivalent(n: int, margin: float, reps: int) -> float:
     d = rng.normal(0.0, 1.0, (reps, n))
     return float(np.mean([stats.decide_equivalent(x, margin=margin).status == "reproduced"
                           for x in d]))
+
+
+def _power_failing(n: int, rate: float, reps: int) -> float:
+    """Rule 6 ("the mean is above :data:`FAILURE_POWER_BOUND`") with its failure indicator
+    (rule 3b) when a share ``rate`` of runs fails (:class:`FailureMixture`, declared
+    failure range [0, 0.4]): the probability of "reproduced" with ``n`` seeds."""
+    law = FailureMixture(rate)
+    rng = _rng("power", "rule3b", n, rate)
+    hits = 0
+    for _ in range(reps):
+        x, failed = law.draw(rng, n)
+        hits += stats.decide_threshold(x, bound=FAILURE_POWER_BOUND, below=False,
+                                       failed=failed, failure_bounds=law.declared
+                                       ).status == "reproduced"
+    return hits / reps
 
 
 def _count_probability(n: int, rate: float, says: Callable[[int], bool]) -> float:
@@ -220,7 +435,9 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
                 effects: Sequence[float] = EFFECTS, rates: Sequence[float] = RATES,
                 rate_ns: Sequence[int] = RATE_SEED_COUNTS,
                 works_rates: Sequence[float] = WORKS_RATES,
-                fails_rates: Sequence[float] = FAILS_RATES) -> dict:
+                fails_rates: Sequence[float] = FAILS_RATES,
+                failure_rates: Sequence[float] = FAILURE_RATES,
+                failure_ns: Sequence[int] = FAILURE_SEED_COUNTS) -> dict:
     """Probability of "reproduced" when the claim holds, per seed count (deterministic).
 
     Returns ``{"nominal": ..., "reps": ..., "rows": [...]}``; each row has ``rule``,
@@ -230,8 +447,11 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
     - rule 5 ("A is like B"): true difference 0, margin ``effect`` sd;
     - rule 10 ("in most runs"): event rate ``rate`` (exact binomial sum);
     - chapter 6's rate rule at ``rate_ns`` seeds (exact): "a configuration works" at
-      true success rates ``works_rates``, "a configuration fails" at ``fails_rates``.
-    Rule 6 has rule 4's power (one-sample t on the values minus the bound).
+      true success rates ``works_rates``, "a configuration fails" at ``fails_rates``;
+    - rule 6 with a failure indicator (rule 3b) at ``failure_ns`` seeds: a share
+      ``failure_rates`` of runs fails (value near 0.2, declared range [0, 0.4]), the rest
+      near 1.0; the claim "the mean is above :data:`FAILURE_POWER_BOUND`" is true.
+    Rule 6 without failures has rule 4's power (one-sided t on the values minus the bound).
     """
     rows = []
     for n in ns:
@@ -254,6 +474,13 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
             rows.append({"rule": "rate_fails", "n_seeds": n, "effect": r,
                          "truth": f"success rate {r:g}",
                          "power": rate_verdict_probability(n, r, "fails")})
+    for n in failure_ns:
+        for r in failure_rates:
+            mean = FailureMixture(r).mean()
+            rows.append({"rule": "rule6_failing_runs", "n_seeds": n, "effect": r,
+                         "truth": f"{100 * r:g} % of runs fail (mean {mean:.2f}, bound "
+                                  f"{FAILURE_POWER_BOUND:g})",
+                         "power": _power_failing(n, r, reps)})
     return {"nominal": stats.ONE_SIDED, "reps": reps, "seed": SEED,
             "interval": stats.INTERVAL_METHOD, "rows": rows}
 
