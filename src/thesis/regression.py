@@ -37,6 +37,14 @@ perturbed twins (every simulation and initial weight moved by about one float32 
   ``tests/core/test_regression.py`` recomputes the tolerance from them, so no tolerance
   is typed or widened by hand.
 
+Twins of one host do not see everything another host does: a trajectory that stayed
+together under both twins can part on another CPU. So another host's run of the same
+code counts as a twin too: ``update ... --host-twin NAME=DIR`` reads that host's
+references (``DIR``) as its results, and every twin measurement a reference records under
+a name not measured again (another host's) is carried over when the references are
+rewritten on this host, as long as the variable keeps its shape. Measurements accumulate
+over hosts; deleting a reference forgets them.
+
 ch6's runs carry their own perturbed twins and mark their per-run variables
 ``regression_over="seed"`` with the tolerance those twins measure in the run itself;
 they are compared within the larger of that and the reference's twin-measured tolerance.
@@ -162,20 +170,27 @@ def _chaos_over(var: xr.DataArray) -> str | None:
 
 
 def measure_sensitivity(var: xr.DataArray, twins: dict[str, xr.DataArray],
-                        z: float = CHAOS_Z) -> dict | None:
+                        z: float = CHAOS_Z, carried: dict[str, float] | None = None
+                        ) -> dict | None:
     """How far rounding-level twins move a variable; ``None`` when none moves it.
 
     ``twins`` maps a twin run's name to the same variable made by that run. A twin moves
     the variable when it differs beyond the default tolerance (a twin of another shape
-    moves it by definition). For each twin the root-mean-square difference per element is
-    recorded (:func:`_twin_rms`); the tolerance of the statistic compared is
-    :func:`chaos_tolerance` of the largest, over ``n`` runs: the number of seeds where
-    the variable is averaged over seeds, else 1 (the mean over all elements moves by at
-    most the RMS difference, Cauchy-Schwarz, whatever the elements' correlation).
+    moves it by definition). For each twin the root-mean-square difference per run is
+    recorded (:func:`_twin_rms`: the largest over the statistic's elements); the tolerance
+    of the statistic compared is :func:`chaos_tolerance_from_rms` of the largest twin's,
+    over ``n`` runs: the number of seeds where the variable is averaged over seeds, else
+    1 (the mean over all elements moves by at most the pooled RMS difference,
+    Cauchy-Schwarz, whatever the elements' correlation).
+
+    ``carried`` holds twin measurements recorded earlier and not repeated now (another
+    host's run, :func:`update_references`): they count like the twins measured now.
 
     Returns ``{"over": dim or None, "n": n, "z": z, "twins": {name: rms}, "atol": tol}``.
     """
-    moved, rms = False, {}
+    carried = {k: float(v) for k, v in (carried or {}).items() if k not in twins}
+    moved, rms = any(v > 0 for v in carried.values()), dict(carried)
+    over = _chaos_over(var)
     for name, twin in sorted(twins.items()):
         a, b = np.asarray(var.values), np.asarray(twin.values)
         if a.shape != b.shape:
@@ -183,22 +198,35 @@ def measure_sensitivity(var: xr.DataArray, twins: dict[str, xr.DataArray],
                              f"not {a.shape}: the twin run is of another configuration")
         if not _close(a, b, DEFAULT_RTOL, DEFAULT_ATOL):
             moved = True
-        rms[name] = _twin_rms(a, b)
+        rms[name] = _twin_rms(a, b, var.dims.index(over) if over else None)
     if not moved:
         return None
-    over = _chaos_over(var)
     n = int(var.sizes[over]) if over else 1
     worst = max(rms.values())
     return {"over": over, "n": n, "z": float(z), "twins": rms,
             "atol": chaos_tolerance_from_rms(worst, n, z)}
 
 
-def _twin_rms(a: np.ndarray, b: np.ndarray) -> float:
-    """Root-mean-square difference per element of a variable and its twin: pooled over
-    every element; labels count 1 where they differ; a value finite in one and not in the
-    other counts the quantity's largest magnitude (as :func:`chaos_tolerance`)."""
-    d = chaos_tolerance(a, b, 1, z=1.0)
-    return 0.0 if d <= DEFAULT_ATOL else float(d)
+def _twin_rms(a: np.ndarray, b: np.ndarray, axis: int | None = None) -> float:
+    """Root-mean-square difference of a variable and its twin, per element of the
+    statistic compared: over ``axis`` (the runs) for each other element, the largest of
+    those (chaos concentrates where trajectories part: a pooled RMS would understate it
+    there); ``axis=None``: pooled over every element, which bounds the move of the mean
+    over all elements. Labels count 1 where they differ; a value finite in one and not in
+    the other counts the quantity's largest magnitude (as :func:`chaos_tolerance`)."""
+    if _is_text(a) or _is_text(b):
+        sq = (a.astype(str) != b.astype(str)).astype(float)
+    else:
+        a, b = a.astype(float), b.astype(float)
+        fa, fb = np.isfinite(a), np.isfinite(b)
+        big = np.nanmax(np.abs(np.where(fa | fb, np.where(fa, a, b), np.nan))) \
+            if (fa | fb).any() else 0.0
+        sq = np.where(fa & fb, (a - b) ** 2, np.where(fa == fb, 0.0, big ** 2))
+    if sq.size == 0:
+        return 0.0
+    d2 = float(np.mean(sq)) if axis is None else float(np.max(np.mean(sq, axis=axis)))
+    d = float(np.sqrt(d2))
+    return 0.0 if d <= DEFAULT_ATOL else d
 
 
 def chaos_tolerance_from_rms(rms: float, n_over: int, z: float = CHAOS_Z) -> float:
@@ -249,20 +277,29 @@ def _jsonable(a) -> list | float | str:
         if a.dtype.kind in "fc" else a.tolist()
 
 
-def to_reference(ds: xr.Dataset, twins: dict[str, xr.Dataset] | None = None) -> dict:
+def to_reference(ds: xr.Dataset, twins: dict[str, xr.Dataset] | None = None,
+                 previous: dict | None = None) -> dict:
     """The JSON-ready reference of a result dataset.
 
-    ``twins`` maps a twin run's name (``"perturbed"``, ``"native"``) to the same result
-    made by that run; each variable some twin moves is recorded as chaotic with the
-    tolerance its twins measured (:func:`measure_sensitivity`).
+    ``twins`` maps a twin run's name (``"perturbed"``, ``"native"``, ``"host-avx2"``) to the
+    same result made by that run; each variable some twin moves is recorded as chaotic
+    with the tolerance its twins measured (:func:`measure_sensitivity`). ``previous`` is
+    the reference being replaced: the twin measurements it records under names not
+    measured now (another host's) are carried over for each variable whose dimensions
+    and shape are unchanged, so what one host measured is not forgotten on the next.
     """
     variables = {}
+    old = (previous or {}).get("variables", {})
     for name, var in ds.data_vars.items():
         variables[name] = {"dims": list(var.dims), "values": _jsonable(var.values),
                            **default_tolerance(name, var)}
-        if variables[name]["compare"] and twins:
-            chaos = measure_sensitivity(var, {k: t[name] for k, t in twins.items()
-                                              if name in t.data_vars})
+        before = old.get(name, {})
+        carried = before.get("chaos", {}).get("twins", {}) \
+            if before.get("dims") == list(var.dims) and \
+            np.asarray(before.get("values"), dtype=object).shape == var.shape else {}
+        if variables[name]["compare"] and (twins or carried):
+            chaos = measure_sensitivity(var, {k: t[name] for k, t in (twins or {}).items()
+                                              if name in t.data_vars}, carried=carried)
             if chaos is not None:
                 variables[name]["chaos"] = chaos
     coords = {name: _jsonable(c.values) for name, c in ds.coords.items()}
@@ -385,6 +422,39 @@ def reference_file(root: Path, key: str, host: str) -> Path:
     return own if own.exists() else reference_path(root, key)
 
 
+def reference_as_dataset(ref: dict) -> xr.Dataset:
+    """A reference's recorded values as a result dataset (every variable with the policy
+    attributes it was recorded with): another host's run of the same code, to measure
+    the host-to-host sensitivity with (``update ... --host-twin NAME=DIR``)."""
+    data = {}
+    for name, spec in ref["variables"].items():
+        values = np.asarray(spec["values"], dtype=object)
+        try:
+            values = values.astype(float)
+        except (TypeError, ValueError):
+            values = values.astype(str)
+        attrs = {} if spec["compare"] else {"measurement": "wall_clock"}
+        if "over" in spec:
+            attrs.update(regression_over=spec["over"], regression_atol=spec["atol"])
+        elif (spec["rtol"], spec["atol"]) != (DEFAULT_RTOL, DEFAULT_ATOL):
+            attrs.update(regression_rtol=spec["rtol"], regression_atol=spec["atol"])
+        data[name] = xr.DataArray(values, dims=spec["dims"], attrs=attrs)
+    coords = {k: v for k, v in ref["coords"].items()
+              if any(k in s["dims"] for s in ref["variables"].values())}
+    return xr.Dataset(data, coords=coords, attrs={"thesis_ref": ref.get("thesis_ref", "")})
+
+
+def host_twin(directory: Path, keys) -> dict[str, xr.Dataset]:
+    """The references under ``directory`` (another host's, of the same code) as twin
+    results, by key, for the ``keys`` they hold."""
+    out = {}
+    for key in keys:
+        path = reference_path(Path(directory), key)
+        if path.exists():
+            out[key] = reference_as_dataset(json.loads(path.read_text()))
+    return out
+
+
 def update_references(results: dict[str, xr.Dataset], root: Path,
                       twins: dict[str, dict[str, xr.Dataset]] | None = None) -> list[str]:
     """Rewrite the canonical references from ``results``; returns what changed.
@@ -416,11 +486,11 @@ def write_references(results: dict[str, xr.Dataset], root: Path,
     twins = twins or {}
     for key, ds in sorted(results.items()):
         path = reference_path(root, key)
+        old = json.loads(path.read_text()) if path.exists() else None
         new = to_reference(ds, {name: runs[key] for name, runs in twins.items()
-                                if key in runs})
+                                if key in runs}, previous=old)
         chaotic = sorted(n for n, v in new["variables"].items() if "chaos" in v)
-        if path.exists():
-            old = json.loads(path.read_text())
+        if old is not None:
             diff = compare(ds, old)
             changes += [f"{key}: {d}" for d in diff] or [f"{key}: unchanged"]
         else:
@@ -442,8 +512,15 @@ def main(argv: list[str] | None = None) -> int:
     from thesis import store
 
     args = list(sys.argv[1:] if argv is None else argv)
+    hosts = {}
+    while "--host-twin" in args:  # --host-twin NAME=DIR: another host's references
+        i = args.index("--host-twin")
+        name, _, directory = args[i + 1].partition("=")
+        hosts[f"host-{name}"] = Path(directory)
+        del args[i:i + 2]
     if not args or args[0] != "update":
-        print("usage: python -m thesis.regression update [profile] [refdir]")
+        print("usage: python -m thesis.regression update [profile] [refdir] "
+              "[--host-twin NAME=DIR ...]")
         return 2
     profile = args[1] if len(args) > 1 else "smoke"
     root = Path(args[2]) if len(args) > 2 else Path("tests/regression") / profile
@@ -460,6 +537,8 @@ def main(argv: list[str] | None = None) -> int:
                   f"{'perturb=1e-7' if name == 'perturbed' else 'isa=native'}` first")
             return 1
         twins[name] = runs
+    for name, directory in hosts.items():
+        twins[name] = host_twin(directory, results)
     print(f"host class {host_class()}; twins: {', '.join(twins)}")
     for line in update_references(results, root, twins):
         print(line)

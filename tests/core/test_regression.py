@@ -325,3 +325,27 @@ def test_committed_chaotic_tolerances_are_what_their_recorded_twins_measured():
             elif "seed" not in spec["dims"]:
                 assert c["n"] == 1, f"{path}:{name}"
     assert chaotic >= 10
+
+
+def test_another_hosts_measurement_is_carried_over_and_a_reference_is_a_twin(tmp_path):
+    """A twin measured on another host (its references, read back as a result) stays
+    recorded when the references are rewritten on a host that only has its own twins."""
+    root, other = tmp_path / "smoke", tmp_path / "other"
+    regression.write_references({"ch2/table2_2": _ds(err=(0.3, 0.1))}, other)
+    back = regression.host_twin(other, ["ch2/table2_2", "ch9/none"])
+    assert list(back) == ["ch2/table2_2"]
+    assert regression.compare(back["ch2/table2_2"],
+                              json.loads((other / "ch2" / "table2_2.json").read_text())) == []
+    regression.write_references({"ch2/table2_2": _ds()}, root, {"host-x": back})
+    first = json.loads((root / "ch2" / "table2_2.json").read_text())
+    assert set(first["variables"]["test_error"]["chaos"]["twins"]) == {"host-x"}
+    regression.write_references({"ch2/table2_2": _ds()}, root, {"perturbed": {"ch2/table2_2": _ds()}})
+    again = json.loads((root / "ch2" / "table2_2.json").read_text())
+    chaos = again["variables"]["test_error"]["chaos"]
+    assert chaos["twins"]["perturbed"] == 0.0
+    assert chaos["twins"]["host-x"] == first["variables"]["test_error"]["chaos"]["twins"]["host-x"]
+    assert chaos["atol"] == pytest.approx(first["variables"]["test_error"]["chaos"]["atol"])
+    # another shape: the old measurement no longer applies
+    regression.write_references({"ch2/table2_2": _ds().isel(seed=[0])}, root)
+    last = json.loads((root / "ch2" / "table2_2.json").read_text())
+    assert "chaos" not in last["variables"]["test_error"]
