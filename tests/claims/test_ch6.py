@@ -169,6 +169,24 @@ def test_couple_of_strides_and_ch8():
                  minimal_training=long_only).status == "inconclusive"
 
 
+def test_section_8_1_few_periods_is_existential():
+    """§8.1's "we demonstrated that in as little as a couple of periods ... already finds
+    stable parameters" is existential: one seed of five trotting with a short stage
+    reproduces it, while §6.7's "learns in a couple of strides" (a rate) does not pass
+    on the same sweep."""
+    names = [f"stage{s:g}s" for s in STAGES]
+    one = sweep(names, rows(0, 1, 5, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
+    v = check("ch8.ch6_stable_trot_in_few_periods_without_memory", minimal_training=one)
+    assert v.status == "reproduced" and "1 of 5" in v.detail
+    assert v.measured["rate"] == pytest.approx(0.2)
+    assert check("ch6.learns_in_a_couple_of_strides",
+                 minimal_training=one).status != "reproduced"
+    long_only = sweep(names[2:], rows(5, 5, 5), hidden=[250] * 3, buffer=[0] * 3,
+                      stage=STAGES[2:])
+    assert check("ch8.ch6_stable_trot_in_few_periods_without_memory",
+                 minimal_training=long_only).status == "inconclusive"
+
+
 def test_extends_to_walk():
     """Existential ("can be extended") with its condition ("when increasing"): a walk
     exists with the larger settings, which walk more often than the trot's (Fisher)."""

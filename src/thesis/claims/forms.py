@@ -89,4 +89,15 @@ CLAIM_FORMS: dict[str, tuple[tuple[str, ...], str]] = {
         "existential on failure (some seed fails); 'not stable', as the section's case for "
         "the ELM controller, is comparative: linear feedback succeeds less often than the "
         "trot controller (Fisher exact)"),
+    "ch8.ch6_stable_trot_in_few_periods_without_memory": (
+        ("existential",),
+        "'we demonstrated that in as little as a couple of periods of the gait, this system "
+        "already finds stable feedback control parameters': a demonstration, 'in as little "
+        "as' the shortest time at which it happened: some seed trots with a short stage "
+        "(the rate per stage beside it); §6.7's 'learns in' is the usual-behaviour reading"),
+    "ch8.ch6_signal_count_most_important": (
+        ("relation",),
+        "'the most important factor is the number of signals': per seed, N against the "
+        "training MSE and against success (the check of "
+        "ch6.signal_count_determines_performance; 'most important' is not tested)"),
 }
