@@ -6,7 +6,16 @@ Dataset contract (``results/<profile>/ch2/table2_2.nc``):
   ``transform`` (``"bilinear"``, ``"bilinear_no_skew"``, ``"chirp_z"``, ``"none"``);
 - variable ``test_error``: per-digit test error, units ``"1"`` (fraction) or ``"percent"``;
   attribute ``n_test`` (test sequences), which the chance gate of the similarity claims
-  needs.
+  needs;
+- optional variable ``failed`` (1 where that network failed to train, same dims or a
+  subset), the chapter's own failure indicator; without it a network fails when its error
+  is not better than chance (:func:`thesis.claims.sentences.better_than_chance` on
+  ``n_test``).
+
+Runs fail here (networks stuck at chance), so the comparisons of per-seed errors pass the
+per-seed failure flags (:func:`failed_seeds`) to rule 3b of :mod:`thesis.claims.stats`;
+only a table with neither ``failed`` nor ``n_test`` records no indicator, and is decided
+under rule 3's stated assumption of runs without a failure mode.
 
 Errors are reported in percent, the thesis's unit. "Performs similarly" is decided on the
 log ratio of the errors, and only between networks that beat chance (9 in 10 digits wrong).
@@ -32,6 +41,10 @@ SPATIAL = ["bilinear", "bilinear_no_skew", "chirp_z"]
 #: Tolerance of "performs similarly": the per-seed ratio of chirp-Z's error to the other's
 #: within the uniform relative tolerance (rule 7), decided on its logarithm (rule 3).
 SIMILAR_MARGIN = stats.PUBLISHED_TOLERANCE
+#: Range [percentage points] of a per-seed difference of two errors on a seed where a
+#: network failed (rule 3b's ``failure_bounds``): either side may be the one at chance, so
+#: no range narrower than that of a difference of two error rates is known.
+FAILED_ADVANTAGE_BOUNDS = (-100.0, 100.0)
 #: Units of the numbers the checks report: errors in percent, as the thesis prints them.
 MEASURED_UNITS = {"error": "percent", "advantage": "percentage points",
                   "ratio": "1 (a ratio of errors; its log is decided)"}
@@ -54,12 +67,63 @@ def _mean_of(per, transforms: list[str]) -> np.ndarray:
     return per.sel(transform=transforms).mean("transform").values
 
 
+def _n_test(results: Results) -> int:
+    """The ``n_test`` attribute (test sequences) as a count; 0 when absent or not a count."""
+    try:
+        return int(results[KEY].attrs.get("n_test"))
+    except (TypeError, ValueError):
+        return 0
+
+
+def failed_seeds(results: Results, err) -> np.ndarray | None:
+    """Per seed, whether some network among the cells of ``err`` failed (rule 3b's flags).
+
+    Args:
+        results: holds ``ch2/table2_2``.
+        err: the compared cells' errors [percent] (dims ``seed`` and any of ``model``,
+            ``d``, ``transform``), as the check averages them.
+
+    Returns:
+        (n_seed,) bool in ``err``'s seed order: True where a compared cell has the
+        dataset's ``failed`` flag set or, without that variable, an error not better than
+        chance (:func:`thesis.claims.sentences.better_than_chance` on ``n_test``); cells
+        without an error never fail. None when the table records neither indicator.
+    """
+    finite = np.isfinite(err)
+    ds = results[KEY]
+    if "failed" in ds.data_vars:
+        flag = ds["failed"].astype(float)
+        flag = flag.sel({d: err[d] for d in flag.dims if d in err.dims and d in err.coords})
+        cell = (flag > 0.5).broadcast_like(err) & finite
+    else:
+        n_test = _n_test(results)
+        if n_test < 1:
+            return None
+        ok = sentences.better_than_chance(err.values / 100.0, n_test)
+        cell = finite & ~err.copy(data=ok)
+    if "seed" not in cell.dims:
+        cell = cell.expand_dims(seed=[0])
+    return cell.any([d for d in cell.dims if d != "seed"]).transpose("seed").values
+
+
+def _beats(a, b, failed, **kw) -> Verdict:
+    """Rule 4 on per-seed errors; rule 3b with the seeds' failure flags when recorded."""
+    if failed is None:
+        return stats.decide_beats(a, b, higher_is_better=False, **kw)
+    return stats.decide_beats(a, b, higher_is_better=False, failed=failed,
+                              failure_bounds=FAILED_ADVANTAGE_BOUNDS, **kw)
+
+
 def spatial_beats_plain(results: Results, transforms: list[str] = SPATIAL) -> Verdict:
-    """Spatial transformer networks (mean of ``transforms``) have lower error than "none"."""
+    """Spatial transformer networks (mean of ``transforms``) have lower error [percent]
+    than "none" (§2.5): rule 4 on the per-seed errors averaged over model and d, with rule
+    3b's failure flags (:func:`failed_seeds`: some compared network failed on that seed)
+    and :data:`FAILED_ADVANTAGE_BOUNDS` when the table records an indicator."""
     per = _transform_means(results, [*transforms, "none"])
     label = "spatial" if len(transforms) > 1 else transforms[0]
-    v = stats.decide_beats(_mean_of(per, transforms), _mean_of(per, ["none"]),
-                           higher_is_better=False, label_a=label, label_b="none")
+    failed = failed_seeds(results, pick(_errors(results), transform=[*transforms, "none"]))
+    v = _beats(_mean_of(per, transforms), _mean_of(per, ["none"]), failed,
+               label_a=label, label_b="none")
     extra = {f"mean_error_{t}": float(np.nanmean(per.sel(transform=t).values))
              for t in [*transforms, "none"]}
     return Verdict(v.status, {**v.measured, **extra}, v.statistic, v.detail)
@@ -79,11 +143,7 @@ def chirpz_similar(results: Results, other: str) -> Verdict:
     v = sentences.decide_ratio_like(cz, ot, label=f"error_ratio_chirp_z_over_{other}")
     extra = {"mean_error_chirp_z": float(np.nanmean(cz)), f"mean_error_{other}":
              float(np.nanmean(ot))}
-    n_test = results[KEY].attrs.get("n_test")
-    try:
-        n_test = int(n_test)
-    except (TypeError, ValueError):
-        n_test = 0
+    n_test = _n_test(results)
     if n_test < 1:
         return stats.untestable(["the number of test sequences (attribute n_test) is not "
                                  "recorded, so no cell can be shown better than chance"],
@@ -154,11 +214,13 @@ def chirpz_reaches_published_error(results: Results) -> Verdict:
 
 
 def recurrent_beats_feedforward(results: Results) -> Verdict:
-    """RNN-SPN has lower error than FFN-SPN, averaged over d and the spatial transforms."""
+    """RNN-SPN has lower error [percent] than FFN-SPN, averaged over d and the spatial
+    transforms (Tab. 2.2): rule 4, with rule 3b's failure flags (:func:`failed_seeds`) when
+    the table records an indicator."""
     err = pick(_errors(results), transform=SPATIAL, model=["ffn_spn", "rnn_spn"])
     per = stats.per_seed(err, keep=("model",))
-    return stats.decide_beats(per.sel(model="rnn_spn").values, per.sel(model="ffn_spn").values,
-                              higher_is_better=False, label_a="rnn_spn", label_b="ffn_spn")
+    return _beats(per.sel(model="rnn_spn").values, per.sel(model="ffn_spn").values,
+                  failed_seeds(results, err), label_a="rnn_spn", label_b="ffn_spn")
 
 
 def _cells(transforms) -> tuple[str, ...]:
@@ -173,7 +235,8 @@ CLAIMS: tuple[Claim, ...] = (
               "the achieved accuracy on the cluttered MNIST dataset compared to standard "
               "neural networks.",
         summary="Mean test error of the three spatial transformers (over model and d) is lower "
-                "than the plain network's (rule 4, paired over seeds).",
+                "than the plain network's (rule 4, paired over seeds; rule 3b with a seed "
+                "failed where a compared network is not better than chance or flagged failed).",
         paper_keys=_cells(["bilinear", "bilinear_no_skew", "chirp_z", "none"]),
         requires=(KEY,), reads=READS, units=MEASURED_UNITS, fn=spatial_beats_plain,
     ),
@@ -213,7 +276,9 @@ CLAIMS: tuple[Claim, ...] = (
         id="ch2.recurrent_beats_feedforward", chapter=2, section="Tab. 2.2",
         quote="Tab. 2.2: Per digit error test scores on the cluttered MNIST sequence",
         summary="RNN-SPN has lower test error than FFN-SPN, averaged over d and the spatial "
-                "transforms (rule 4); shown by Tab. 2.2, not stated in the prose.",
+                "transforms (rule 4; rule 3b with a seed failed where a compared network is "
+                "not better than chance or flagged failed); shown by Tab. 2.2, not stated in "
+                "the prose.",
         paper_keys=_cells(["bilinear", "bilinear_no_skew", "chirp_z"]),
         requires=(KEY,), reads=READS, units=MEASURED_UNITS, fn=recurrent_beats_feedforward,
     ),

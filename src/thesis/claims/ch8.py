@@ -19,7 +19,8 @@ CLAIMS: tuple[Claim, ...] = (
         quote="We showed that this approach indeed outperforms standard convolutional neural "
               "networks.",
         summary="Chirp-Z spatial transformer (mean over model and d) has lower test error than "
-                "the plain network (rule 4).",
+                "the plain network (rule 4; rule 3b with networks at chance as failed, the "
+                "check of ch2.spatial_transformers_beat_plain).",
         paper_keys=tuple(f"table2_2/model={m}/d={d}/transform={t}/test_error"
                          for m in ("ffn_spn", "rnn_spn") for d in (1, 2, 3)
                          for t in ("chirp_z", "none")),

@@ -20,7 +20,9 @@ Sentence forms (issue 54: one logic per form). Existential sentences ("was found
 :func:`~thesis.claims.stats.decide_exists`: some seed shows it, the rate beside it);
 sentences about what usually happens as means or rates over seeds; a stated size as an
 equivalence on the size; a causal sentence needs an intervention. The claims touched by
-issue 54 in chapters 2-5, 7 and §8 and the form each is read as:
+issue 54 in chapters 2-5, 7 and §8 and the form each is read as; the claims whose runs can
+fail also name the chapter's failure indicator they pass to rule 3b
+(:func:`~thesis.claims.stats.mixture_interval`):
 
 ======================================================  ====================================
 claim                                                   form read
@@ -28,6 +30,11 @@ claim                                                   form read
 ch2.chirpz_similar_to_bilinear, ..._no_skew             likeness of two error rates: rule 5
                                                         on the log ratio, gated on every
                                                         compared cell beating chance
+ch2.spatial_transformers_beat_plain,                    runs that fail (rule 3b): rule 4 with
+ch2.recurrent_beats_feedforward, §8.1's                 a seed failed where a compared
+ch8.ch2_prior_in_architecture_beats_cnn                 network is flagged ``failed`` or not
+                                                        better than chance; a failed seed's
+                                                        difference anywhere in +-100 points
 ch2.chirpz_reaches_1_8_percent ("able to achieve")      existence over configurations: some
                                                         configuration's mean below the bound
                                                         (rule 6, Holm over configurations)
