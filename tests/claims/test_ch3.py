@@ -162,3 +162,50 @@ def test_each_failed_strategy_is_tested_with_holm():
     v = check("ch3.three_turning_strategies_fail", table3_2=ds)
     assert v.status == "not_reproduced" and "torque" in v.detail
     assert "Holm" in v.statistic
+
+
+def _with_fallen(ds: xr.Dataset, like: str, fallen=None) -> xr.Dataset:
+    """``ds`` with a ``fallen`` flag shaped like ``like`` (0 everywhere, or ``fallen``)."""
+    ds = ds.copy(deep=True)
+    ds["fallen"] = xr.zeros_like(ds[like]) if fallen is None else fallen
+    return ds
+
+
+def test_unseen_falls_leave_speed_comparisons_inconclusive():
+    """Gaits can fall (rule 3b): with ``fallen`` recorded and no fall among four seeds,
+    the fall rate may still be high and a fallen robot's speed has no declared range, so
+    the speed comparisons are inconclusive; without ``fallen`` the dataset is decided under
+    rule 3's assumption of runs without a failure mode, as before."""
+    ds = fig3_4()
+    for cid in ("ch3.half_ellipse_beats_sine_at_high_speed", "ch3.spline_fastest",
+                "ch3.sine_speed_flattens_above_1hz",
+                "ch8.ch3_biological_trajectory_beats_sine"):
+        assert check(cid, fig3_4=ds).status == "reproduced", cid
+        v = check(cid, fig3_4=_with_fallen(ds, "speed"))
+        assert v.status == "inconclusive", cid
+        assert "rule 3b" in v.statistic, cid
+    t = table3_2()
+    for cid in ("ch3.scapulae_needed_for_fast_turning", "ch3.scapulae_larger_turning_radius",
+                "ch8.ch3_scapulae_help_maintain_speed"):
+        assert check(cid, table3_2=t).status == "reproduced", cid
+        v = check(cid, table3_2=_with_fallen(t, "speed"))
+        assert v.status == "inconclusive", cid
+
+
+def test_seen_falls_change_the_turning_verdict():
+    """Ten seeds, the scapulae robot fell on three and made no headway there (speed 0,
+    below step-size turning's 0.07 m/s). The mean advantage over all seeds is still
+    positive and the t interval (rule 3) says "scapulae turn faster"; read as a mixture
+    (rule 3b: the fall rate up to about 70 % by Clopper-Pearson, the fallen seeds' own
+    t interval for their value) it is inconclusive."""
+    t = table3_2(seeds=10)
+    fell_on = [0, 1, 2]
+    t["speed"].loc[{"seed": fell_on, "strategy": "scapulae"}] = [0.0, 0.001, 0.002]
+    plain = claims.get("ch3.scapulae_needed_for_fast_turning").check({"ch3/table3_2": t})
+    v = plain.measured
+    assert v["speed.advantage_mean"] > 0 and plain.status == "reproduced"
+    flags = xr.zeros_like(t["speed"])
+    flags.loc[{"seed": fell_on, "strategy": "scapulae"}] = 1.0
+    mixed = check("ch3.scapulae_needed_for_fast_turning", table3_2=_with_fallen(t, "speed", flags))
+    assert mixed.status == "inconclusive"
+    assert mixed.measured["speed.n_seeds_failed"] == 3

@@ -12,6 +12,12 @@ any other extra dim is averaged):
   variables ``speed`` [m/s], ``angular_speed`` [degree/s] (signed, positive in the
   commanded turning direction), ``turning_radius`` [m],
   ``stable`` [1] (1 if the strategy gives a stable turning gait, 0 otherwise).
+- ``fallen`` [1] in ``fig3_4`` (gait, frequency, seed) and ``table3_2`` (strategy, seed),
+  where recorded: 1 if the robot fell. The chapter's failure indicator: the comparisons
+  and bounds on per-seed speeds pass it to rule 3b of :mod:`thesis.claims.stats` (a seed
+  failed where the robot fell in a compared cell), with no declared range for a fallen
+  robot's speed; a dataset without it is decided under rule 3's stated assumption of runs
+  without a failure mode.
 
 Note: the chapter abstract calls the half-ellipse gait the fastest, while §3.3.1.3 reports
 the spline gait faster (0.41 against 0.27 m/s); both statements are checked separately.
@@ -54,26 +60,59 @@ def _max_speed(results: Results, gaits: list[str]):
     return sp.max("frequency", skipna=True)
 
 
-def _beats_each(per, winner: str, losers: list[str], higher_is_better: bool = True) -> Verdict:
+def fell(results: Results, key: str, keep: str, high_band: bool = False, **sel):
+    """Per seed and ``keep`` coordinate, whether the robot fell in some cell of ``key``'s
+    ``fallen`` flags (rule 3b's failure indicator), over the cells ``sel`` picks (and, with
+    ``high_band``, only the frequencies above the sine gait's 1-Hz knee); None when the
+    dataset records no ``fallen``. Returns a bool DataArray with dims (seed, ``keep``)."""
+    ds = results[key]
+    if "fallen" not in ds.data_vars:
+        return None
+    da = pick(ds["fallen"].astype(float), **sel)
+    if high_band:
+        da = da.where(da["frequency"] > paper.get(KNEE_KEY).value, drop=True)
+    if "seed" not in da.dims:
+        da = da.expand_dims(seed=[0])
+    return (da > 0.5).any([d for d in da.dims if d not in ("seed", keep)]).transpose(
+        "seed", keep)
+
+
+def _either(fallen, dim: str, a: str, b: str) -> np.ndarray | None:
+    """Per seed, whether ``a`` or ``b`` fell (None without a fall indicator)."""
+    if fallen is None:
+        return None
+    return (fallen.sel({dim: a}) | fallen.sel({dim: b})).values
+
+
+def _beats_each(per, winner: str, losers: list[str], higher_is_better: bool = True,
+                fallen=None) -> Verdict:
+    """Rule 4 for ``winner`` against each of ``losers`` (all must hold); with ``fallen``
+    (:func:`fell`), rule 3b with a seed failed where either gait fell."""
     return stats.combine({
         f"{winner}_vs_{other}": stats.decide_beats(
             per.sel(gait=winner).values, per.sel(gait=other).values,
-            higher_is_better=higher_is_better, label_a=winner, label_b=other)
+            higher_is_better=higher_is_better, label_a=winner, label_b=other,
+            failed=_either(fallen, "gait", winner, other))
         for other in losers})
 
 
 def ellipse_beats_sine_high_speed(results: Results) -> Verdict:
-    """Half-ellipse walks faster than sine above the sine gait's knee frequency."""
-    return _beats_each(_high_band_speed(results, ["half_ellipse", "sine"]), "half_ellipse",
-                       ["sine"])
+    """Half-ellipse walks faster [m/s] than sine above the sine gait's knee frequency
+    (rule 4 on the per-seed mean speed above 1 Hz; rule 3b where the robot fell there)."""
+    gaits = ["half_ellipse", "sine"]
+    return _beats_each(_high_band_speed(results, gaits), "half_ellipse", ["sine"],
+                       fallen=fell(results, FIG, "gait", high_band=True, gait=gaits))
 
 
 def trajectories_beat_sine_high_speed(results: Results) -> Verdict:
-    """Both foot-trajectory gaits (half ellipse, spline) beat sine above the knee frequency."""
+    """Both foot-trajectory gaits (half ellipse, spline) beat sine [m/s] above the knee
+    frequency (rule 4 each; rule 3b where the robot fell above the knee)."""
     per = _high_band_speed(results, GAITS)
+    fallen = fell(results, FIG, "gait", high_band=True, gait=GAITS)
     return stats.combine({
         f"{g}_vs_sine": stats.decide_beats(per.sel(gait=g).values, per.sel(gait="sine").values,
-                                           higher_is_better=True, label_a=g, label_b="sine")
+                                           higher_is_better=True, label_a=g, label_b="sine",
+                                           failed=_either(fallen, "gait", g, "sine"))
         for g in ("half_ellipse", "spline")})
 
 
@@ -108,22 +147,29 @@ def sine_flattens(results: Results) -> Verdict:
         return np.array(out)
 
     below, above = slopes(lo), slopes(hi)
+    fallen = fell(results, FIG, "gait", gait=["sine"])  # a fall anywhere on the curve
+    failed = None if fallen is None else fallen.sel(gait="sine").values
     return stats.combine({
         "proportional_below": stats.decide_threshold(below, bound=0.0, below=False,
-                                                     label="slope_up_to_knee"),
+                                                     label="slope_up_to_knee", failed=failed),
         "flat_above": stats.decide_threshold(above - FLAT_SHARE * below, bound=0.0, below=True,
-                                             label="slope_above_knee_minus_half_below"),
+                                             label="slope_above_knee_minus_half_below",
+                                             failed=failed),
     })
 
 
 def ellipse_fastest(results: Results) -> Verdict:
-    """Half ellipse reaches a higher maximum speed than sine and spline."""
-    return _beats_each(_max_speed(results, GAITS), "half_ellipse", ["sine", "spline"])
+    """Half ellipse reaches a higher maximum speed [m/s] than sine and spline (rule 4
+    each; rule 3b where the robot fell at some frequency)."""
+    return _beats_each(_max_speed(results, GAITS), "half_ellipse", ["sine", "spline"],
+                       fallen=fell(results, FIG, "gait", gait=GAITS))
 
 
 def spline_fastest(results: Results) -> Verdict:
-    """Spline reaches a higher maximum speed than sine and half ellipse."""
-    return _beats_each(_max_speed(results, GAITS), "spline", ["sine", "half_ellipse"])
+    """Spline reaches a higher maximum speed [m/s] than sine and half ellipse (rule 4
+    each; rule 3b where the robot fell at some frequency)."""
+    return _beats_each(_max_speed(results, GAITS), "spline", ["sine", "half_ellipse"],
+                       fallen=fell(results, FIG, "gait", gait=GAITS))
 
 
 def _robust(results: Results):
@@ -167,11 +213,15 @@ def _turn(results: Results, name: str):
 
 
 def _scapulae_vs_step(results: Results, name: str, higher_is_better: bool = True) -> Verdict:
+    """Rule 4, scapulae against step-size turning on ``name``; rule 3b with a seed failed
+    where either fell (``fallen`` of ``table3_2``, when recorded)."""
     per = _turn(results, name)
     return stats.decide_beats(per.sel(strategy="scapulae").values,
                               per.sel(strategy="step_size").values,
                               higher_is_better=higher_is_better,
-                              label_a=f"scapulae_{name}", label_b=f"step_size_{name}")
+                              label_a=f"scapulae_{name}", label_b=f"step_size_{name}",
+                              failed=_either(fell(results, TURN, "strategy", strategy=WORKING),
+                                             "strategy", "scapulae", "step_size"))
 
 
 def scapulae_turn_faster(results: Results) -> Verdict:
@@ -197,8 +247,11 @@ def _keeps_straight_speed(results: Results) -> Verdict:
     """Usual behaviour: rule 6 on the per-seed log ratio of turning over straight-line
     speed above the bound of :func:`_turning_over_straight`."""
     logr, bound = _turning_over_straight(results)
+    fallen = fell(results, TURN, "strategy", strategy=["scapulae"])
     v = stats.decide_threshold(logr, bound=bound, below=False,
-                               label="log_turning_over_straight_speed")
+                               label="log_turning_over_straight_speed",
+                               failed=None if fallen is None
+                               else fallen.sel(strategy="scapulae").values)
     return Verdict(v.status, {**v.measured, "ratio_bound": float(np.exp(bound))},
                    v.statistic, v.detail)
 
@@ -239,13 +292,17 @@ def scapulae_larger_radius(results: Results) -> Verdict:
     """§3.3.3 "the turning radius is 36 % higher compared to using a smaller step size":
     the size, not only the direction: per seed the scapulae's radius over step-size
     turning's is 1.36 with the published tolerance on the 36 % (rules 5 and 7 on the log
-    ratio, :func:`thesis.claims.sentences.decide_ratio_like`)."""
+    ratio, :func:`thesis.claims.sentences.decide_ratio_like`; rule 3b with a seed failed
+    where either strategy's robot fell, when ``fallen`` is recorded)."""
     per = _turn(results, "turning_radius")
+    fallen = _either(fell(results, TURN, "strategy", strategy=WORKING), "strategy",
+                     "scapulae", "step_size")
     pub = float(paper.get("table3_2/strategy=scapulae/turning_radius_increase").value) / 100.0
     v = sentences.decide_ratio_like(per.sel(strategy="scapulae").values,
                                     per.sel(strategy="step_size").values, target=1.0 + pub,
                                     margin=sentences.gain_log_margin(pub),
-                                    label="radius_ratio_scapulae_over_step_size")
+                                    label="radius_ratio_scapulae_over_step_size",
+                                    failed=fallen)
     gm = v.measured["radius_ratio_scapulae_over_step_size_geometric_mean"]
     return Verdict(v.status, {**v.measured, "increase_percent": 100.0 * (gm - 1.0),
                               "thesis_increase_percent": 100.0 * pub}, v.statistic, v.detail)

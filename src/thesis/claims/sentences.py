@@ -40,6 +40,14 @@ ch2.chirpz_reaches_1_8_percent ("able to achieve")      existence over configura
                                                         (rule 6, Holm over configurations)
 ch3.scapulae_larger_turning_radius ("36 % higher")      a size: rule 5 on the log ratio
                                                         about log 1.36
+ch3.half_ellipse_beats_sine_at_high_speed,              runs that fail (rule 3b): a seed
+ch3.half_ellipse_fastest, ch3.spline_fastest,           failed where the robot fell
+ch3.sine_speed_flattens_above_1hz, §8.1's               (``fallen``) in a compared cell
+ch8.ch3_biological_trajectory_beats_sine (fig3_4);      (gait and frequency, or turning
+ch3.scapulae_needed_for_fast_turning,                   strategy); no declared range for a
+ch3.scapulae_larger_turning_radius, the rule-4 and      fallen robot's speed, angular speed
+rule-6 parts of ch8.ch3_scapulae_help_maintain_speed    or radius
+(table3_2)
 ch3.scapulae_maintain_speed ("it is possible")          existence: a seed whose turning
                                                         speed keeps the straight-line speed
 ch8.ch3_scapulae_help_maintain_speed ("helps")          usual behaviour (rule 4, rule 6 on
@@ -112,7 +120,7 @@ def gain_log_margin(gain: float, tolerance: float = stats.PUBLISHED_TOLERANCE) -
 
 def decide_ratio_like(num, den, *, target: float = 1.0,
                       tolerance: float = stats.PUBLISHED_TOLERANCE, label: str = "ratio",
-                      margin: float | None = None) -> Verdict:
+                      margin: float | None = None, failed=None) -> Verdict:
     """Decide "``num / den`` is ``target`` within a relative ``tolerance``" on the log ratio.
 
     Args:
@@ -123,6 +131,9 @@ def decide_ratio_like(num, den, *, target: float = 1.0,
         tolerance: relative tolerance, turned into the log margin :func:`log_margin`.
         margin: an explicit log margin instead (for a tolerance stated on another scale).
         label: name of the ratio in the measured numbers.
+        failed: (n,) per-seed failure flags (the chapter's indicator), for rule 3b's
+            interval (:func:`thesis.claims.stats.mixture_interval`, no declared range of a
+            failed seed's log ratio); a pair without a ratio is dropped with its flag.
 
     Returns:
         Rule 5 (:func:`thesis.claims.stats.decide_equivalent`) on ``log(num/den) -
@@ -137,8 +148,12 @@ def decide_ratio_like(num, den, *, target: float = 1.0,
     ok = np.isfinite(num) & np.isfinite(den) & (num > 0) & (den > 0)
     logr = np.where(ok, np.log(np.where(ok, num, 1.0) / np.where(ok, den, 1.0)), np.nan)
     m = log_margin(tolerance) if margin is None else float(margin)
+    f = None if failed is None else np.asarray(failed, bool).ravel()
+    if f is not None and f.shape != num.shape:
+        raise ValueError(f"failed has {f.size} flags for {num.size} seeds")
     v = stats.decide_equivalent(logr[ok] - np.log(target), margin=m,
-                                label=f"log_{label}_minus_log_target")
+                                label=f"log_{label}_minus_log_target",
+                                failed=None if f is None else f[ok])
     key = f"log_{label}_minus_log_target"
     gm = {f"{label}_geometric_mean": float(np.exp(np.mean(logr[ok]))) if ok.any() else np.nan,
           f"{label}_ci_low": float(target * np.exp(v.measured.get(f"{key}_ci_low", np.nan))),
