@@ -23,7 +23,11 @@ The thesis proposes these experiments and never ran them; the claims are the iss
 * the chaos chapter 7 met: the engine's gradient spread over perturbed starts
   (``start_relative_spread``) grows by at least :data:`SPREAD_GROWTH` from the shortest to
   the longest horizon (rule 6 on log10 of the ratio); a horizon whose gradients were not
-  finite counts as exploded (:data:`EXPLODED`).
+  finite counts as exploded (:data:`EXPLODED`). Exploded seeds make the per-seed values a
+  mixture (finite growths and the score :data:`EXPLODED`), so they are passed as failed
+  runs to rule 3b of :mod:`thesis.claims.stats`, their value the score itself: a few
+  seeds without an explosion leave a high explosion rate possible, which keeps "does not
+  grow tenfold" undecided.
 
 Dataset contracts (``results/<profile>/coopt/``): ``arms``: ``final_speed`` (arm, seed)
 and ``perturbed_speed`` (arm, seed, start) [m/s], arms ``controller``, ``morphology``,
@@ -152,6 +156,10 @@ def _finite_mean(x) -> float:
 
 
 def _spread(results: Results) -> Verdict:
+    """The engine's gradient spread over perturbed starts grows at least
+    :data:`SPREAD_GROWTH`-fold from the shortest to the longest horizon: rule 6 on the
+    per-seed log10 growth [decades], a seed whose longest-horizon gradients were not finite
+    scored :data:`EXPLODED` and passed as failed to rule 3b (its value that score)."""
     da = variable(results, GRADS, "start_relative_spread",
                   dims=("seed", "group", "variance_horizon"))
     bad = variable(results, GRADS, "start_nonfinite",
@@ -164,9 +172,11 @@ def _spread(results: Results) -> Verdict:
     nonfinite = bad.sel({"variance_horizon": hi}).values > 0
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.log10(s_hi / s_lo)
-    ratio = np.where(nonfinite & ~np.isfinite(ratio), EXPLODED, ratio)
+    exploded = nonfinite & ~np.isfinite(ratio)
+    ratio = np.where(exploded, EXPLODED, ratio)
     v = stats.decide_threshold(ratio, bound=np.log10(SPREAD_GROWTH), below=False,
-                               label="log10_spread_growth")
+                               label="log10_spread_growth", failed=exploded,
+                               failure_bounds=(EXPLODED, EXPLODED))
     return Verdict(v.status, {**v.measured, "shortest_horizon": lo, "longest_horizon": hi,
                               "spread_shortest_mean": _finite_mean(s_lo),
                               "spread_longest_mean": _finite_mean(s_hi),
@@ -238,7 +248,9 @@ CLAIMS: tuple[Claim, ...] = (
         section="§8.2", quote=_GRADS,
         summary="The engine's own gradient of the controller varies over perturbed starts "
                 "at least tenfold more (relative spread) at the longest horizon than at the "
-                "shortest (rule 6 on log10 of the ratio per probe point).",
+                "shortest (rule 6 on log10 of the ratio per probe point; a probe point "
+                "whose gradients were not finite scores 10 decades and is a failed run for "
+                "rule 3b).",
         requires=(GRADS,), reads=(f"{GRADS}:start_relative_spread",
                                   f"{GRADS}:start_nonfinite"),
         fn=_spread,
