@@ -86,8 +86,8 @@ ch7.vision_control_learned_through_camera ("can")       existence (as §8.1's pe
 ch8.coopt_joint_optimisation_possible ("can")           feasibility: existence
 ch8.coopt_gradient_needs_fewer_rollouts_*               a count: rule 6 on log10, only where
                                                         a positive control holds
-ch8.coopt_analytic_gradient_spread_explodes_with_       runs that fail (rule 3b): a probe
-horizon                                                 point whose gradients were not
+ch8.coopt_analytic_gradient_spread                      runs that fail (rule 3b): a probe
+(``_explodes_with_horizon``)                            point whose gradients were not
                                                         finite (``start_nonfinite``) is
                                                         failed, its value the score
                                                         ``EXPLODED`` (10 decades)
