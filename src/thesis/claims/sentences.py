@@ -92,6 +92,13 @@ ch8.coopt_analytic_gradient_spread                      runs that fail (rule 3b)
                                                         failed, its value the score
                                                         ``EXPLODED`` (10 decades)
 ======================================================  ====================================
+
+Not yet read with a failure indicator: chapter 4's best-particle comparisons (a fall is
+recorded only in the score, below -1, and no range of a failed seed's difference is
+declared, so rule 3b would leave them undecided whenever no seed fell); chapter 5 and
+chapter 7 record no per-seed failure flag for the claims that read per-seed values
+(chapter 7's censored counts carry their own ``converged`` flags, rule 3's censored
+variant).
 """
 
 from __future__ import annotations
