@@ -97,8 +97,8 @@ Not yet read with a failure indicator: chapter 4's best-particle comparisons (a 
 recorded only in the score, below -1, and no range of a failed seed's difference is
 declared, so rule 3b would leave them undecided whenever no seed fell); chapter 5 and
 chapter 7 record no per-seed failure flag for the claims that read per-seed values
-(chapter 7's censored counts carry their own ``converged`` flags, rule 3's censored
-variant).
+(chapter 7's censored counts carry their own ``converged`` flags, read by
+:func:`~thesis.claims.stats.decide_fewer_censored`).
 """
 
 from __future__ import annotations
