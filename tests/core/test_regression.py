@@ -349,3 +349,20 @@ def test_another_hosts_measurement_is_carried_over_and_a_reference_is_a_twin(tmp
     regression.write_references({"ch2/table2_2": _ds().isel(seed=[0])}, root)
     last = json.loads((root / "ch2" / "table2_2.json").read_text())
     assert "chaos" not in last["variables"]["test_error"]
+
+
+def test_a_censored_mean_on_one_side_counts_the_quantitys_largest_magnitude():
+    """A chaotic count that is NaN (never reached) in every run on one side differs by the
+    quantity's largest magnitude, as its twins' differences were measured: within a
+    tolerance that covers that it passes, beyond it it fails."""
+    def ds(v):
+        return xr.Dataset({"n": xr.DataArray(np.asarray(v, float), dims=("seed", "k"),
+                                             attrs={"units": "1", "long_name": "count"})},
+                          coords={"seed": [0]})
+    base = ds([[20.0, 100.0]])
+    ref = regression.to_reference(base, {"perturbed": ds([[20.0, np.nan]])})
+    assert ref["variables"]["n"]["chaos"]["atol"] == pytest.approx(
+        regression.CHAOS_Z * 100.0)
+    assert regression.compare(ds([[20.0, np.nan]]), ref) == []
+    ref["variables"]["n"]["chaos"]["atol"] = 50.0  # a tolerance below the flip's size
+    assert regression.compare(ds([[20.0, np.nan]]), ref) != []
