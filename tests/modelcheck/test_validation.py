@@ -114,3 +114,27 @@ def test_validation_writes_every_quantity_and_decides_every_target(tiny):
     # V2's 2.6 Hz was not among the frequencies run, so V2 cannot pass
     assert int(ds["target_passed"].sel(target="V2")) == 0
     assert "nan" in str(ds["target_text"].sel(target="V2").values)
+
+
+def test_convergence_verdicts():
+    speeds = np.array([[0.30, 0.50, np.nan],
+                       [0.32, 0.52, np.nan],    # +6.7 %, +4 %: converged
+                       [0.30, np.nan, np.nan]])  # a case that falls only here: moved
+    falls = np.array([[0.0, 0.2, 1.0], [0.0, 0.2, 1.0], [0.0, 0.8, 1.0]])
+    rel, worst, total, dfall, passed = V.compare_settings(speeds, falls)
+    np.testing.assert_allclose(worst, [0.02 / 0.30, np.inf])
+    np.testing.assert_allclose(total, [0.4, 0.4, 0.6])
+    assert passed.tolist() == [True, False] and np.isinf(rel[1, 1])
+    # an 11 % move fails, as does a fall rate 6 points off
+    _, _, _, _, p2 = V.compare_settings([[1.0], [1.11]], [[0.0], [0.0]])
+    _, _, _, _, p3 = V.compare_settings([[1.0], [1.0]], [[0.0], [0.06]])
+    assert not p2[0] and not p3[0]
+
+
+def test_validate_verb_refuses_what_it_cannot_do():
+    from thesis import cli
+
+    with pytest.raises(SystemExit, match="unknown robot"):
+        cli.main(["validate", "puppy", "--profile", "smoke"])
+    with pytest.raises(SystemExit, match="--output needs --only"):
+        cli.main(["validate", "oncilla", "--profile", "smoke", "--output", "x.nc"])

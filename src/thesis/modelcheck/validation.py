@@ -358,6 +358,34 @@ def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
     return ds
 
 
+def compare_settings(speeds, fall_rates):
+    """The convergence verdicts of refined settings against the first.
+
+    Args:
+        speeds: (G, C) case speeds [m/s] at G settings (NaN: undefined, the case fell);
+        fall_rates: (G, C) fraction of each case's starts that fell.
+
+    Returns:
+        (rel (G-1, C) |speed - speed_0| / speed_0, inf where the speed is defined at one
+        setting only; worst (G-1,) the largest of rel (NaN when no case is defined at
+        either); total (G,) the fall rate over all cases; dfall (G-1,) |total - total_0|;
+        passed (G-1,) bool: worst <= CONVERGENCE_SPEED and dfall <=
+        CONVERGENCE_FALL_POINTS, an undefined worst failing).
+    """
+    speeds = np.asarray(speeds, np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(speeds[1:] - speeds[0]) / np.abs(speeds[0])
+    # a speed defined at one setting and not at the other (a gait that falls at one) moved
+    rel = np.where(np.isnan(speeds[1:]) != np.isnan(speeds[0]), np.inf, rel)
+    total = np.asarray(fall_rates, np.float64).mean(axis=1)
+    dfall = np.abs(total[1:] - total[0])
+    worst = np.array([np.max(r[~np.isnan(r)]) if (~np.isnan(r)).any() else np.nan
+                      for r in rel])
+    passed = (np.nan_to_num(worst, nan=np.inf) <= CONVERGENCE_SPEED) \
+        & (dfall <= CONVERGENCE_FALL_POINTS + 1e-12)
+    return rel, worst, total, dfall, passed
+
+
 def convergence(ctx) -> xr.Dataset:
     """``model/convergence``: the validation quantities at dt, dt / 2 and dt with twice the
     sweeps, and whether speeds move <= 10 % and fall rates <= 5 points (module docstring)."""
@@ -380,17 +408,7 @@ def convergence(ctx) -> xr.Dataset:
         dts.append(float(model.dt))
         sweeps.append(int(model.solver_iterations))
     speeds, fall_rates, scap = map(np.asarray, (speeds, fall_rates, scap))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.abs(speeds[1:] - speeds[0]) / np.abs(speeds[0])
-    # a speed defined at one setting and not at the other (a gait that falls at one) moved
-    rel = np.where(np.isnan(speeds[1:]) != np.isnan(speeds[0]), np.inf, rel)
-    total = np.array([fr.mean() for fr in fall_rates])
-    dfall = np.abs(total[1:] - total[0])
-    with np.errstate(invalid="ignore"):
-        worst = np.array([np.nanmax(r) if np.isfinite(r).any() or np.isinf(r).any()
-                          else np.nan for r in rel])
-    passed = (np.nan_to_num(worst, nan=np.inf) <= CONVERGENCE_SPEED) \
-        & (dfall <= CONVERGENCE_FALL_POINTS)
+    rel, worst, total, dfall, passed = compare_settings(speeds, fall_rates)
     S, SC = ("setting",), ("setting", "case")
     data = dict(
         case_speed=(SC, speeds, _a("m s-1", "speed of the case (mean over the starts that "
