@@ -78,10 +78,18 @@ def test_toes_of_the_build_state_sit_build_depth_below_the_hips():
 
 def test_reach_inside_and_outside():
     he = next(g for g in TG.published_gaits() if g.name == "tab3_1a")
-    np.testing.assert_array_equal(V.reach("ellipse", he.params), np.zeros(4))
+    np.testing.assert_array_equal(V.reach("ellipse", he.params), np.zeros((3, 4)))
     p = np.array(he.params)
     p[T.EllipseGait().index("x0")] = 300.0  # far below any leg's reach
-    np.testing.assert_array_equal(V.reach("ellipse", p), np.ones(4))
+    np.testing.assert_array_equal(V.reach("ellipse", p), np.ones((3, 4)))
+    p = np.array(he.params)
+    fam = T.EllipseGait()
+    p[fam.index("b_fore")] = 120.0  # a swing far above the fore legs' flexion stop
+    r = V.reach("ellipse", p)
+    assert V.PATH_PARTS == ("cycle", "stance", "swing")
+    np.testing.assert_array_equal(r[1], 0.0)  # the stance stays reachable
+    assert np.all(r[2, :2] > 0.2) and np.all(r[2, 2:] == 0.0)  # fore swings only
+    assert r[0, 0] == pytest.approx(0.5 * r[2, 0], abs=0.02)  # duty 0.5
     assert np.isnan(V.reach("sine", np.zeros(13))).all()
 
 
