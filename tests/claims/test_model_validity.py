@@ -27,6 +27,7 @@ def test_flag_only_on_oncilla_claims_and_only_when_a_target_failed():
     assert MV.flag(["ch7/ball"], failed) == {}
     assert MV.flag(["ch6/trot", "ch7/ball"], failed)["model_validation"]["unvalidated"]
     assert MV.flag(["ch4/flat"], {}) == {}  # validation not run: no flag
+    assert MV.flag(["ch4/flat"], failed, "not_run") == {}  # nothing decided: no flag
     ok = {"model/validation": _validation([1] * 6)}
     assert MV.flag(["ch4/flat"], ok) == {"model_validation": {"unvalidated": False,
                                                               "failed_targets": []}}
@@ -38,10 +39,13 @@ def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
     assert {c.chapter for c in oncilla} >= {3, 4, 6}
     others = [c for c in CLAIMS if not MV.rests_on_oncilla(c.requires)]
     out = evaluate(oncilla[0], results)
+    assert out["status"] == "not_run" and "model_validation" not in out
+    out = {**out, "status": "not_reproduced",
+           **MV.flag(oncilla[0].requires, results, "not_reproduced")}
     assert out["model_validation"]["unvalidated"]
     assert "decided on an unvalidated model (failed: V1" in MV.text(out)
     assert "model_validation" not in evaluate(others[0], results)
     assert MV.UNVALIDATED in V.claims_html([out])
     assert any(MV.UNVALIDATED in line for line in V.summary_lines([out], out["chapter"]))
-    plain = evaluate(oncilla[0], {})
+    plain = {**out, "model_validation": {"unvalidated": False, "failed_targets": []}}
     assert MV.UNVALIDATED not in V.claims_html([plain])

@@ -41,12 +41,13 @@ def rests_on_oncilla(requires: Iterable[str]) -> bool:
     return any(str(r).startswith(ONCILLA_RESULTS) for r in requires)
 
 
-def flag(requires: Iterable[str], results: Mapping) -> dict:
+def flag(requires: Iterable[str], results: Mapping, status: str = "") -> dict:
     """The fields a claim's verdict gains (empty when none): ``model_validation`` with
     ``unvalidated`` (True), ``reading`` (:data:`UNVALIDATED`) and ``failed_targets``,
     where the claim rests on the Oncilla and a validation target failed; or
-    ``unvalidated`` False with no failed target where the validation passed."""
-    if not rests_on_oncilla(requires):
+    ``unvalidated`` False with no failed target where the validation passed. A claim
+    that was not decided (``status`` ``"not_run"``) gains nothing."""
+    if status == "not_run" or not rests_on_oncilla(requires):
         return {}
     failed = failed_targets(results)
     if failed is None:
