@@ -250,7 +250,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
                         f"theory {meas['ellipse_share_min']:.2f}-{meas['ellipse_share_max']:.2f}"
                         f", spread {spread:.2f} (<= {SHARE_SPREAD}); spline at "
                         f"{NEAR_BAND[0]:g}-{NEAR_BAND[1]:g} Hz ({len(fs)} frequencies): "
-                        f"|share - 1| up to {worst:.2f} (<= {NEAR_TOLERANCE})")
+                        f"share of theory off 1 by up to {worst:.2f} (<= {NEAR_TOLERANCE})")
     # V5
     vs = speed.get(("tab3_1b", 1.5), float("nan"))
     ve15 = speed.get(("tab3_1a", 1.5), float("nan"))
