@@ -38,6 +38,7 @@ include: "workflow/rules/ch5.smk"
 include: "workflow/rules/ch6.smk"
 include: "workflow/rules/ch7.smk"
 include: "workflow/rules/coopt.smk"
+include: "workflow/rules/model.smk"
 
 
 # `--config perturb=1e-7` makes the perturbed twin runs of every chapter but ch6 (whose

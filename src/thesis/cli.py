@@ -3,6 +3,9 @@
 - ``thesis run ch2/table2_2 --profile smoke``: run one registered experiment and write
   its dataset (with provenance) to ``results/<profile>/<chapter>/<artifact>.nc``.
 - ``thesis bench physics --profile smoke``: run a registered benchmark the same way.
+- ``thesis validate oncilla --profile smoke``: the Oncilla model's validation on the
+  thesis's published gaits (V1-V6) and its convergence table, into
+  ``results/<profile>/model/validation.nc`` and ``convergence.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
   write ``results/<profile>/claims.json``, and the decision rules' power table beside it
   (``claims_power.json``).
@@ -151,6 +154,26 @@ def _cmd_bench(args) -> int:
     return 0
 
 
+def _cmd_validate(args) -> int:
+    """``thesis validate oncilla``: the model's validation (V1-V6) and its convergence
+    table, written to ``results/<profile>/model/`` (``--only`` one of them)."""
+    if args.robot not in registry.VALIDATIONS:
+        known = ", ".join(sorted(registry.VALIDATIONS))
+        raise SystemExit(f"unknown robot {args.robot!r} to validate; available: {known}")
+    keys = registry.VALIDATIONS[args.robot]
+    if args.only:
+        keys = tuple(k for k in keys if k.endswith("/" + args.only))
+        if not keys:
+            raise SystemExit(f"--only {args.only!r}: not one of "
+                             f"{', '.join(k.split('/')[1] for k in registry.VALIDATIONS[args.robot])}")
+    if args.output and len(keys) != 1:
+        raise SystemExit("--output needs --only (one dataset per output path)")
+    for key in keys:
+        run_experiment(key, args.profile, output=args.output, overrides=_overrides(args.set),
+                       config_file=args.config_file)
+    return 0
+
+
 #: Exit status of a command that met a damaged or missing result or input file (``thesis
 #: check`` and ``thesis report`` still decide and render everything else first).
 EXIT_DAMAGED = 4
@@ -289,6 +312,16 @@ def build_parser() -> argparse.ArgumentParser:
     common(b)
     b.add_argument("--output", default=None)
     b.set_defaults(func=_cmd_bench)
+
+    v = sub.add_parser("validate", help="validate a robot model on the thesis's published "
+                                        "gaits (results/<profile>/model/)")
+    v.add_argument("robot", help="oncilla")
+    common(v)
+    v.add_argument("--only", default=None, choices=("validation", "convergence"),
+                   help="run only the validation or only the convergence table")
+    v.add_argument("--output", default=None,
+                   help="result path, with --only (default results/<profile>/model/<only>.nc)")
+    v.set_defaults(func=_cmd_validate)
 
     c = sub.add_parser("check", help="decide every claim from a profile's results")
     common(c)

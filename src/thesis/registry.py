@@ -78,6 +78,14 @@ EXPERIMENTS: dict[str, str] = {
     "physics/sphere_field": "thesis.physics.bench:sphere_field",
     # model-level checks of the Oncilla (results/<profile>/model/)
     "model/oncilla": "thesis.modelcheck.bench:oncilla",
+    "model/validation": "thesis.modelcheck.validation:validation",
+    "model/convergence": "thesis.modelcheck.validation:convergence",
+}
+
+#: ``thesis validate <robot>`` -> registry keys it runs (the validation, then the
+#: convergence table).
+VALIDATIONS: dict[str, tuple[str, ...]] = {
+    "oncilla": ("model/validation", "model/convergence"),
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -157,6 +165,10 @@ READS: dict[str, tuple[str, ...]] = {
     "physics/sphere_field": ("physics.sphere_field",),
     "model/oncilla": ("physics.oncilla_model", "ch4.model", "ch4.protocol.settle",
                       "ch4.protocol.fall_height"),
+    "model/validation": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
+                         "ch4.protocol.settle", "ch4.protocol.fall_height"),
+    "model/convergence": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
+                          "ch4.protocol.settle", "ch4.protocol.fall_height"),
 }
 
 

@@ -27,8 +27,11 @@ CHAPTER_PACKAGES = ("thesis.chirpz", "thesis.gaits", "thesis.terrain", "thesis.e
                     "thesis.diffphys")
 #: What the engine may import of the project besides itself.
 PHYSICS_MAY_IMPORT = ("thesis.physics", "thesis.errors")
-#: The only packages that may import the thesis's published numbers.
-PAPER_READERS = ("thesis.claims", "thesis.report", "thesis.paper")
+#: The only packages that may import the thesis's published numbers; and the model's
+#: validation targets (DESIGN.md: a robot model's targets are published measurements
+#: from ``thesis.paper``), which decide the model, never a chapter's experiment.
+PAPER_READERS = ("thesis.claims", "thesis.report", "thesis.paper",
+                 "thesis.modelcheck.targets")
 
 
 def _module_name(path: Path, root: Path = SRC) -> str:

@@ -49,3 +49,52 @@ def test_joint_frames_in_body_coordinates():
     np.testing.assert_allclose(m.joint_anchor1[0], [1, 0, 0], atol=1e-6)
     np.testing.assert_allclose(m.joint_anchor2[0], rot.T @ np.array([-1.0, 0, 0]), atol=1e-6)
     np.testing.assert_allclose(m.joint_frame2[0][:, 0], rot.T @ np.array([0.0, 1, 0]), atol=1e-6)
+
+
+def _soft_model(dt, **kw):
+    b = Builder("soft", dt=dt, **kw)
+    b.add_plane("floor", (0, 0, 1), 0.0)
+    b.add_box("a", (0.1, 0.1, 0.1), (0, 0, 0.5))
+    b.add_box("c", (0.1, 0.1, 0.1), (0.2, 0, 0.5))
+    b.add_hinge("h", "a", "c", (0.1, 0, 0.5), (0, 1, 0), limits=(-0.5, 0.5))
+    b.add_contact_sphere("a", 0.05)
+    return b.build(jnp.float32)[0]
+
+
+def test_default_softness_is_physical_not_per_step():
+    """The builder's default joint, limit and contact softness are constants [Hz] that do
+    not change with dt (issue 53): 100, 100 and 25 Hz, the former 1/dt and 0.25/dt at the
+    default 10-ms step; a model may state its own."""
+    from thesis.physics import builder
+
+    for dt in (0.01, 0.0025, 0.001):
+        m = _soft_model(dt)
+        np.testing.assert_allclose(m.joint_hz, builder.JOINT_HZ)
+        np.testing.assert_allclose(m.limit_hz, builder.LIMIT_HZ)
+        np.testing.assert_allclose(m.material_hz[0], builder.CONTACT_HZ)
+    assert (builder.JOINT_HZ, builder.LIMIT_HZ, builder.CONTACT_HZ) == (100.0, 100.0, 25.0)
+    m = _soft_model(0.001, joint_hz=300.0, limit_hz=200.0, contact_hz=40.0)
+    np.testing.assert_allclose([m.joint_hz[0], m.limit_hz[0], m.material_hz[0]],
+                               [300.0, 200.0, 40.0])
+
+
+def test_robots_state_the_softness_they_had_at_their_step():
+    """Every robot keeps the softness it had at its own step under the former per-step
+    rule, whatever dt it is built with: the Oncilla 400 / 100 Hz (2.5 ms), Puppy II
+    200 / 50 Hz (5 ms), the 10-ms robots the builder's 100 / 25 Hz."""
+    import importlib
+
+    O = importlib.import_module("thesis.physics.models.oncilla")
+    P = importlib.import_module("thesis.physics.models.puppy")
+
+    for dt in (0.0025, 0.00125):
+        m, _ = O.oncilla(dt=dt)
+        np.testing.assert_allclose(np.unique(np.asarray(m.joint_hz)), [400.0])
+        np.testing.assert_allclose(np.unique(np.asarray(m.limit_hz)), [400.0])
+        np.testing.assert_allclose(np.unique(np.asarray(m.material_hz)), [100.0])
+    m, _ = P.puppy(dt=0.0025)
+    np.testing.assert_allclose(np.unique(np.asarray(m.joint_hz)), [200.0])
+    np.testing.assert_allclose(np.unique(np.asarray(m.material_hz)), [50.0])
+    m, _ = quadruped(dt=0.005)
+    np.testing.assert_allclose(np.unique(np.asarray(m.joint_hz)), [100.0])
+    np.testing.assert_allclose(np.unique(np.asarray(m.material_hz)), [25.0])

@@ -28,8 +28,11 @@ def _period(x, dt):
 
 
 def test_small_angle_pendulum_period():
+    """A rigid pendulum's period: the hinge is declared stiff (1 kHz); the builder's
+    default 100-Hz hinge is a compliant pivot whose period is ~1.2 % longer whatever the
+    step (test_soft_hinge_period_does_not_depend_on_dt)."""
     length, r, dt = 1.0, 0.05, 0.001
-    b = Builder("pend", dt=dt, solver_iterations=10)
+    b = Builder("pend", dt=dt, solver_iterations=10, joint_hz=1000.0)
     b.add_sphere("bob", r, (0, 0, -length), rot=None)
     b.add_hinge("pivot", "world", "bob", (0, 0, 0), (0, 1, 0))
     b.set_velocity("bob", (0.05, 0, 0), (0, -0.05, 0))  # ~3 deg amplitude
@@ -39,6 +42,26 @@ def test_small_angle_pendulum_period():
     inertia = 0.4 * mass * r * r + mass * length ** 2
     expected = 2 * np.pi * np.sqrt(inertia / (mass * G * length))
     np.testing.assert_allclose(_period(np.asarray(q)[:, 0], dt), expected, rtol=5e-3)
+
+
+def _pendulum_period(dt, joint_hz=None, length=1.0, r=0.05):
+    b = Builder("pend", dt=dt, solver_iterations=10, joint_hz=joint_hz)
+    b.add_sphere("bob", r, (0, 0, -length), rot=None)
+    b.add_hinge("pivot", "world", "bob", (0, 0, 0), (0, 1, 0))
+    b.set_velocity("bob", (0.05, 0, 0), (0, -0.05, 0))  # ~3 deg amplitude
+    m, s = b.build(jnp.float32)
+    _, q = _scan(m, s, int(round(4.5 / dt)), _angle)
+    return _period(np.asarray(q)[:, 0], dt)
+
+
+def test_soft_hinge_period_does_not_depend_on_dt():
+    """Joint softness is physical (builder.JOINT_HZ, independent of dt, issue 53): the
+    default-softness pendulum has one period at 2, 1 and 0.5 ms, where the former
+    1 / dt rule made a different (stiffer) pivot at each step; a stiffer declared hinge
+    gives a different period, so the check can tell softness apart."""
+    periods = [_pendulum_period(dt) for dt in (0.002, 0.001, 0.0005)]
+    np.testing.assert_allclose(periods, periods[0], rtol=1e-3)
+    assert abs(_pendulum_period(0.001, joint_hz=1000.0) - periods[0]) > 5e-3 * periods[0]
 
 
 @pytest.mark.slow
@@ -161,7 +184,8 @@ def test_velocity_servo_reaches_command():
 def _pd_model(stiffness, damping, max_torque, max_velocity, *, load=0.0):
     """A bar on a vertical-axis hinge with a compliant drive; ``load`` [N] pushes its tip
     sideways (a body spring to a far anchor stands in for a constant force)."""
-    b = Builder("pd", dt=0.005, gravity=(0, 0, 0), solver_iterations=40)
+    # a stiff hinge (200 Hz): the drive's compliance is the one under test
+    b = Builder("pd", dt=0.005, gravity=(0, 0, 0), solver_iterations=40, joint_hz=200.0)
     b.add_box("w", (0.6, 0.1, 0.1), (0.3, 0, 0), mass=2.0)
     b.add_hinge("h", "world", "w", (0, 0, 0), (0, 0, 1))
     b.add_compliant_servo("h", stiffness, damping, max_torque, max_velocity)

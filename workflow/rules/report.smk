@@ -27,6 +27,8 @@ rule claims:
     input:
         ALL_RESULTS,
         TWIN_RUNS,
+        # the Oncilla's validation (workflow/rules/model.smk): claims on it are flagged
+        MODEL_TARGETS,
     output:
         json=f"results/{PROFILE}/claims.json",
         # the decision rules' power table, written beside claims.json (thesis.cli)

@@ -22,7 +22,7 @@ from collections.abc import Mapping
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, stats
+from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, model_validity, stats
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 #: How :meth:`Claim.check` begins the detail of a verdict whose results are absent.
@@ -126,7 +126,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     detail), and ``fragile`` (the two differ).
     Likewise, where every required result has a native twin run (``native``, a
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
-    ``isa_dependent``."""
+    ``isa_dependent``. Where the claim rests on the simulated Oncilla and the profile's
+    model validation failed a target, ``model_validation``
+    (:func:`thesis.claims.model_validity.flag`)."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     out = {
@@ -147,6 +149,7 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
             other = claim.check(decided_on[0])
             out[name] = other.to_dict()
             out[flag] = other.status != verdict.status
+    out.update(model_validity.flag(claim.requires, results, verdict.status))
     return out
 
 

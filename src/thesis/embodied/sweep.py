@@ -104,9 +104,16 @@ def controller_dt(cfg: dict) -> float:
     return int(cfg["control"]["substeps"]) * float(cfg["model"]["dt"])
 
 
+#: The Oncilla's constraint softness in chapter 6 [Hz]: what the engine's former per-step
+#: rule (1 / dt joints, 0.25 / dt contacts) gave at ch6's 2.05-ms step, stated as physical
+#: constants (issue 53) so that chapter 6's results do not move; stiffer than the
+#: 400 / 100 Hz of chapters 3 and 4 (``oncilla.JOINT_HZ``, ``CONTACT_HZ``).
+SOFTNESS = dict(joint_hz=1.0 / 0.00205, contact_hz=0.25 / 0.00205)
+
+
 @functools.lru_cache(maxsize=4)
 def _model(dt: float, iterations: int):
-    return O.oncilla(dt=dt, solver_iterations=iterations)
+    return O.oncilla(dt=dt, solver_iterations=iterations, **SOFTNESS)
 
 
 def model_of(cfg: dict):

@@ -166,11 +166,12 @@ def nominal_gait(family=FAMILY) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=8)
-def command_fn(settle: float, t_transition: float):
+def command_fn(settle: float, t_transition: float, family=FAMILY):
     """Command function ``(memory, t, sensors) -> (12,)`` [rad]: the ch4 protocol of
-    :func:`thesis.gaits.runner.gait_command_fn` for the spline family, or, where the
-    memory's ``stand`` is 1, the build pose held (standing)."""
-    gait = R.gait_command_fn(FAMILY, float(settle), float(t_transition))
+    :func:`thesis.gaits.runner.gait_command_fn` for ``family`` (default the spline
+    family of Tab. 4.1), or, where the memory's ``stand`` is 1, the build pose held
+    (standing)."""
+    gait = R.gait_command_fn(family, float(settle), float(t_transition))
 
     def fn(mem, t, sens):
         cmd = gait(mem, t, sens)
@@ -205,8 +206,9 @@ def _run_one(model, state0, mem, kick, k_kick, fn, n_cmd: int, stride: int):
 
 
 @functools.lru_cache(maxsize=8)
-def _compiled(settle: float, t_transition: float, n_cmd: int, stride: int, n_dev: int):
-    fn = command_fn(settle, t_transition)
+def _compiled(settle: float, t_transition: float, n_cmd: int, stride: int, n_dev: int,
+              family=FAMILY):
+    fn = command_fn(settle, t_transition, family)
 
     def batch(model, state0, mem, kick, k_kick):
         one = functools.partial(_run_one, model, state0, fn=fn, n_cmd=n_cmd, stride=stride)
@@ -221,13 +223,13 @@ def _compiled(settle: float, t_transition: float, n_cmd: int, stride: int, n_dev
 
 
 def simulate_runs(model, state0, runs: dict, *, duration: float, settle: float,
-                  t_transition: float, batch: int) -> dict:
+                  t_transition: float, batch: int, family=FAMILY) -> dict:
     """Simulate R robots in compiled batches of ``batch`` (the last one padded).
 
     Args:
         model, state0: the Oncilla (one model for every run).
-        runs: dict of per-run arrays with leading axis R: ``p`` (R, 12) spline parameters
-            (family order), ``stand`` (R,) 1 to hold the build pose instead, ``kick``
+        runs: dict of per-run arrays with leading axis R: ``p`` (R, P) parameters of
+            ``family`` (default the spline family, P = 12; family order), ``stand`` (R,) 1 to hold the build pose instead, ``kick``
             (R, 3) trunk velocity change [m/s], ``kick_time`` (R,) when it lands [s]
             (rounded to the 10-ms grid; inf: never).
         duration: simulated seconds of every run; settle, t_transition: the protocol [s].
@@ -253,7 +255,7 @@ def simulate_runs(model, state0, runs: dict, *, duration: float, settle: float,
     k_kick = np.where(np.isfinite(runs["kick_time"]),
                       np.round(np.nan_to_num(runs["kick_time"], posinf=0.0)
                                / R.COMMAND_PERIOD), -1).astype(np.int32)
-    fn = _compiled(float(settle), float(t_transition), n_cmd, stride, n_dev)
+    fn = _compiled(float(settle), float(t_transition), n_cmd, stride, n_dev, family)
     dtype = np.dtype(state0.pos.dtype)
     batched = model.replace(batched=True)
     parts = []

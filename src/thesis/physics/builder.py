@@ -11,13 +11,23 @@ Decisions (documented here because the original's JSON format leaves them implic
   sphere inertia ``0.4 m`` without ``r^2`` (FACTS §2.3 quirk) only with
   ``inertia="tpx_quirk"``.
 * Softness: every constraint row is a damped spring of natural frequency ``hz`` and
-  damping ratio ``zeta`` (FACTS §2.4 item 3, see ``constraint.py``). Joint and limit
-  defaults are ``hz = 1 / dt`` and ``zeta = 1`` (critical damping): the softness is
-  relative to each row's effective mass, so a light body carrying a heavy one (a foot
-  under a torso) sags by ``g / w^2`` times the mass ratio; stiff joints keep that below
-  a millimetre while the implicit formulation stays stable. Contacts default to
-  ``hz = 0.25 / dt``: stiffer contacts with warm starting and a non-converged parallel
-  solve can sustain a small bouncing limit cycle (seen on the quadruped at 0.5 / dt).
+  damping ratio ``zeta`` (FACTS §2.4 item 3, see ``constraint.py``), relative to the
+  row's effective mass: a row of effective mass m acts as a spring of stiffness
+  m (2 pi hz)^2 [N/m or N m/rad] with damping 2 zeta m (2 pi hz), so a light body carrying
+  a heavy one (a foot under a torso) sags by ``g / (2 pi hz)^2`` times the mass ratio.
+  ``hz`` is a physical property of the robot, not of the integrator: it does not change
+  with ``dt``, so halving the step or doubling the sweeps refines a simulation of the
+  same robot (issue 53; the engine's validation shows the convergence). Defaults
+  (:data:`JOINT_HZ`, :data:`LIMIT_HZ`, :data:`CONTACT_HZ`, ``zeta = 1``, critical
+  damping) are 100 Hz for joints and limits and 25 Hz for contacts: the values that the
+  earlier rule ``1 / dt`` and ``0.25 / dt`` gave at the builder's default dt of 0.01 s,
+  which every model built at that dt keeps (ball, arm, quadruped, cart-pole); a model
+  with another step states its own (:func:`thesis.physics.models.oncilla.oncilla`,
+  :func:`thesis.physics.models.puppy.puppy`). Stiff joints keep the sag below a
+  millimetre; contacts stiffer than a quarter of the step rate, with warm starting and a
+  non-converged parallel solve, can sustain a small bouncing limit cycle (seen on the
+  quadruped at 0.5 / dt), so a model should keep ``contact_hz <= 0.25 / dt`` at the
+  coarsest step it runs.
 * ``relaxation`` (default 0.5) under-relaxes the parallel block updates of the solver;
   1.0 diverges on chains where a light body links two heavier ones (see ``solver.py``).
 * ``restitution_threshold`` defaults to ``2 |g| dt``: a resting contact gains ``|g| dt`` of
@@ -34,7 +44,16 @@ import jax.numpy as jnp
 from thesis.physics.math import quat_to_rot
 from thesis.physics.types import GeomType, JointType, ServoKind
 
-__all__ = ["Builder", "box_inertia", "sphere_inertia"]
+__all__ = ["Builder", "box_inertia", "sphere_inertia", "JOINT_HZ", "LIMIT_HZ", "CONTACT_HZ"]
+
+#: Default softness of joint rows [Hz] (natural frequency, module docstring); independent
+#: of dt: 1 / dt at the default dt 0.01 s.
+JOINT_HZ = 100.0
+#: Default softness of joint-limit rows [Hz]; independent of dt.
+LIMIT_HZ = 100.0
+#: Default softness of the "default" contact material [Hz]; independent of dt: 0.25 / dt
+#: at the default dt 0.01 s.
+CONTACT_HZ = 25.0
 
 _ROW_MASK = {
     JointType.HINGE: (1, 1, 1, 0, 1, 1),
@@ -85,14 +104,16 @@ class Builder:
         dt: time step [s]. solver_iterations: PGS sweeps per step. gravity: (3,) [m/s^2].
         warm_start: fraction of the previous impulses used as the initial guess (FACTS §2.4).
         relaxation: Jacobi relaxation factor of the solver (see ``solver.py``).
-        joint_hz, joint_zeta: default joint softness (None: 1/dt Hz, ratio 1).
-        limit_hz, limit_zeta: default joint-limit softness (same defaults).
+        joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
+            :data:`JOINT_HZ`, ratio 1); physical, independent of dt.
+        limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).
         reortho_iterations: eq. 7.1 steps per time step.
         restitution_threshold: [m/s] (None: 2 |g| dt). contact_slop: [m] penetration
             left uncorrected (the original's ground ``delta``, FACTS §2.6).
         toi_correction: correct positions for the time of impact of sphere-plane contacts
             (``step.toi_correction``); off by default, as in the original engine.
-        friction, restitution, contact_hz, contact_zeta: the "default" material.
+        friction, restitution, contact_hz, contact_zeta: the "default" material
+            (``contact_hz`` None: :data:`CONTACT_HZ`).
     """
 
     def __init__(self, name, *, dt=0.01, solver_iterations=20, gravity=(0.0, 0.0, -9.81),
@@ -106,9 +127,9 @@ class Builder:
         self.gravity = np.asarray(gravity, dtype=np.float64)
         self.warm_start = float(warm_start)
         self.relaxation = float(relaxation)
-        self.joint_hz = 1.0 / self.dt if joint_hz is None else float(joint_hz)
+        self.joint_hz = JOINT_HZ if joint_hz is None else float(joint_hz)
         self.joint_zeta = float(joint_zeta)
-        self.limit_hz = 1.0 / self.dt if limit_hz is None else float(limit_hz)
+        self.limit_hz = LIMIT_HZ if limit_hz is None else float(limit_hz)
         self.limit_zeta = float(limit_zeta)
         self.reortho_iterations = int(reortho_iterations)
         g = float(np.linalg.norm(self.gravity))
@@ -122,7 +143,7 @@ class Builder:
         self.materials, self.planes, self.cspheres, self.sphere_pairs = [], [], [], []
         self.geoms, self.cameras, self.textures = [], [], []
         self.add_material("default", friction, restitution,
-                          0.25 / self.dt if contact_hz is None else contact_hz, contact_zeta)
+                          CONTACT_HZ if contact_hz is None else contact_hz, contact_zeta)
 
     # ---- lookup ---------------------------------------------------------------------
     def _body(self, name):

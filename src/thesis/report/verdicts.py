@@ -13,7 +13,7 @@ from __future__ import annotations
 import html
 import json
 
-from thesis.claims import basis
+from thesis.claims import basis, model_validity
 from thesis.claims import ch6 as claims_ch6
 
 STATUS_COLOURS = {
@@ -235,7 +235,9 @@ def claims_html(claims: list[dict], chapter: int | None = None) -> str:
             f"{html.escape(c.get('reading', ''))}</b><br><span class=note>"
             f"{html.escape(c.get('detail', ''))}</span>"
             + (f"<br><span class=\"{'fragile' if c.get('fragile') else 'note'}\">"
-               f"{html.escape(twin_text(c))}</span>" if twin_text(c) else "") + "</td>",
+               f"{html.escape(twin_text(c))}</span>" if twin_text(c) else "")
+            + (f"<br><span class=\"fragile\">{html.escape(model_validity.text(c))}</span>"
+               if model_validity.text(c) else "") + "</td>",
             f"<td>{_numbers_html(c)}</td>",
             f"<td>{_deps_html(c.get('departures', []))}</td>",
         ]) + "</tr>")
@@ -403,8 +405,9 @@ def summary_lines(claims: list[dict], chapter: int) -> list[str]:
         if c.get("chapter") != chapter:
             continue
         twin = f" ({twin_text(c)})" if twin_text(c) else ""
-        lines.append(f"- **{c.get('reading') or c.get('status', '')}** `{c.get('id')}`: "
-                     f"{c.get('detail', '')}{twin}")
+        unvalidated = f" [{model_validity.text(c)}]" if model_validity.text(c) else ""
+        lines.append(f"- **{c.get('reading') or c.get('status', '')}**{unvalidated} "
+                     f"`{c.get('id')}`: {c.get('detail', '')}{twin}")
         on, off, choices = split(c.get("departures", []))
         for d in on + off:
             lines.append(f"  - {departure_text(d)}")

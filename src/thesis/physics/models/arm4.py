@@ -7,7 +7,8 @@ is two hinges around a 0.1 m sphere (base: z then y, elbow: z then y), boxes
 0.14 x 0.14 x 0.5 m, end effector sphere r 0.1 m fixed on top at z 1.1 m, density
 1000 kg/m^3 (total 32.2 kg); y hinges limited to +-90 deg; servo dead band 0.01 rad;
 ground contacts on the elbow and end-effector spheres (mu 0.5, slop 0.01 m, restitution
-0.01); dt 0.01 s, 20 solver iterations, warm start 0.85; the base is fixed to the world
+0.01); dt 0.01 s, 20 solver iterations, warm start 0.85 (softness: the builder's
+physical defaults, joints and limits 100 Hz, contacts 25 Hz); the base is fixed to the world
 (the JSON's 1e6 kg "universe"). The JSON's 10 N m torque is overridden by the thesis's 30.
 
 Deviation: effective servo torque and solver sweeps of the reaching experiments.

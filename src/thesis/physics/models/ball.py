@@ -3,16 +3,17 @@
 Sources: thesis §7.2.1 ("1 m diameter, a friction of mu = 1.0 and restitution e = 0.5",
 starts at (0, 0)); [TPX] ``robotmodel/ball.json`` via FACTS §2.10 (centre height 1.5 m,
 density 1000 kg/m^3 -> 523.6 kg, dt 0.01 s, 1 solver iteration, warm start 0.85, no
-torsional friction). Contact softness is ours (0.25/dt Hz, critically damped): the
-original's f/zeta values do not transfer because its soft-constraint formula differs by
-a factor dt (FACTS §2.4 quirk, see ``constraint.py``).
+torsional friction). Contact softness is ours: 25 Hz, critically damped
+(``CONTACT_HZ`` of :mod:`thesis.physics.builder`; a physical constant, 0.25 / dt at the
+default dt 0.01 s): the original's f/zeta values do not transfer because its
+soft-constraint formula differs by a factor dt (FACTS §2.4 quirk, see ``constraint.py``).
 """
 
 from __future__ import annotations
 
 import jax.numpy as jnp
 
-from thesis.physics.builder import Builder
+from thesis.physics.builder import CONTACT_HZ, Builder
 
 
 def ball(*, dt=0.01, solver_iterations=1, radius=0.5, height=1.5, friction=1.0,
@@ -24,14 +25,15 @@ def ball(*, dt=0.01, solver_iterations=1, radius=0.5, height=1.5, friction=1.0,
     Args (defaults cited in the module docstring): dt [s]; solver_iterations; radius [m]
     (§7.2.1: 1 m diameter); height of the centre [m] (ball.json); friction, restitution
     (§7.2.1); warm_start; initial velocity [m/s] and angular velocity [rad/s];
-    inertia "solid" or "tpx_quirk" (FACTS §2.3); gravity; contact softness;
+    inertia "solid" or "tpx_quirk" (FACTS §2.3); gravity; contact softness
+    ``contact_hz`` [Hz] (None: ``CONTACT_HZ``, 25 Hz, whatever dt) and ``contact_zeta``;
     toi_correction: time-of-impact position correction (``physics.step.toi_correction``;
     not in the original engine); dtype.
     """
     # a single body: its contact rows are decoupled, so no under-relaxation is needed
     b = Builder("ball", dt=dt, solver_iterations=solver_iterations, gravity=gravity,
                 warm_start=warm_start, relaxation=1.0, toi_correction=toi_correction)
-    hz = 0.25 / dt if contact_hz is None else contact_hz
+    hz = CONTACT_HZ if contact_hz is None else contact_hz
     b.add_material("ground", friction, restitution, hz, contact_zeta)
     b.add_plane("floor", (0, 0, 1), 0.0, "ground", color=(0.4, 0.7, 0.3))
     b.add_sphere("ball", radius, (0.0, 0.0, height), inertia=inertia, color=(1, 1, 1))

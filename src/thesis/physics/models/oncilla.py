@@ -89,6 +89,14 @@ its reason; nothing is fitted to a result of the thesis):
   (§3.2.2), held in between; the physics step ``dt`` is 2.5 ms (four steps per command):
   at 5 ms some gaits (fast leg swings from the settle pose) made the engine diverge to
   NaN within 0.1 s, at 2.5 ms the same gaits walk.
+* **Compliance of the constraints** (physical, independent of dt;
+  :mod:`thesis.physics.builder`): every joint and joint-limit row is a critically damped
+  spring of ``joint_hz`` 400 Hz and every floor contact one of ``contact_hz`` 100 Hz,
+  relative to the row's effective mass (a toe under the 5.1-kg robot: contact stiffness
+  about m_eff (2 pi 100 Hz)^2). These are the values the engine's former per-step rule
+  (1 / dt, 0.25 / dt) gave at the 2.5-ms step, kept so that chapters 3 and 4 do not move;
+  halving dt or doubling the sweeps now simulates the same robot (the convergence table
+  of ``thesis validate oncilla``). No source gives the real robot's values.
 * **Not revised** (the source gives them, the model does not have them yet): the foot
   plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
@@ -186,6 +194,12 @@ def trunk_inertia(trunk_mass: float = MASS - 4 * sum(LEG_MASSES)) -> np.ndarray:
     return inertia
 
 
+#: Softness of the joint and joint-limit rows [Hz] (module docstring, "Compliance").
+JOINT_HZ = 400.0
+#: Softness of the floor contacts [Hz].
+CONTACT_HZ = 100.0
+
+
 def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=20.0,
             drive_damping=0.4, hip_torque=4.0, knee_torque=4.0, scapula_gain=10.0,
             scapula_torque=10.0, hip_velocity=12.0, knee_velocity=12.0,
@@ -195,11 +209,14 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             camera_pixels=CAMERA_PIXELS, geom: L.LegGeometry | None = None,
             hind_geom: L.LegGeometry | None = None, dtype=jnp.float32,
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
-            tether_damping=0.0, tether_width=0.0):
+            tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
+            contact_hz=CONTACT_HZ):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
         dt: physics step [s] (commands stay at 10 ms, see module docstring).
+        joint_hz [Hz]: softness of every joint and joint-limit row; contact_hz [Hz]: of
+            the floor contacts (critically damped; physical, independent of dt).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -239,11 +256,11 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
     """
     legs = L.leg_geometries(geom, hind_geom)
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
-                relaxation=relaxation,
-                restitution=restitution, contact_slop=0.001)
+                relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
+                contact_hz=contact_hz, restitution=restitution, contact_slop=0.001)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
-    b.add_material("floor", friction, restitution, 0.25 / float(dt), 1.0)
+    b.add_material("floor", friction, restitution, float(contact_hz), 1.0)
     b.add_plane("floor", (0, 0, 1), 0.0, material="floor", color=(0.3, 0.3, 0.3))
     m_leg = sum(LEG_MASSES)
     z_trunk = BUILD_DEPTH + TOE_RADIUS - HIPS[0][2]

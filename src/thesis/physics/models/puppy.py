@@ -54,6 +54,11 @@ fitted to a result of the thesis.
 * **Solver**: dt 5 ms (4 physics steps per 20 ms sample of the 50 Hz recordings),
   30 block-Jacobi sweeps with relaxation 0.3 (the setting the Oncilla needed for its
   light legs under a heavy trunk, thesis.physics.models.oncilla).
+* **Compliance** (physical, independent of dt; :mod:`thesis.physics.builder`): joint and
+  limit rows 200 Hz, contacts 50 Hz, critically damped (``JOINT_HZ``, ``CONTACT_HZ``
+  below): the values the engine's former per-step rule (1 / dt, 0.25 / dt) gave at the
+  5-ms step, kept so that chapter 5's recordings do not move; a smaller step now refines
+  the same robot.
 
 Sensors the chapter records (§5.3.1) map onto the engine's: hip and knee
 ``joint_angle`` (potentiometers), paw ``contact_force``, trunk ``imu_acc`` and
@@ -114,10 +119,17 @@ def leg_height() -> float:
     return (FEMUR + TIBIA) * math.cos(LEG_ANGLE)
 
 
+#: Softness of the joint and joint-limit rows [Hz] (module docstring, "Compliance").
+JOINT_HZ = 200.0
+#: Softness of the paws' and bumpers' contacts [Hz].
+CONTACT_HZ = 50.0
+
+
 def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
           hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=3.0,
           knee_preload=0.1, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
-          restitution=0.0, skin_ratio=0.5, dtype=jnp.float32):
+          restitution=0.0, skin_ratio=0.5, joint_hz=JOINT_HZ, contact_hz=CONTACT_HZ,
+          dtype=jnp.float32):
     """Build Puppy II standing on a flat floor (plane ``"floor"``, material
     ``"default"``); returns ``(Model, State)``.
 
@@ -131,11 +143,14 @@ def puppy(*, dt=0.005, solver_iterations=30, relaxation=0.3, servo_gain=50.0,
         friction, restitution: the default floor material (terrains replace it).
         skin_ratio: the paws' forward / backward friction ratio (1: isotropic friction);
             the floor material's ``friction_forward`` is ``skin_ratio * friction``.
+        joint_hz [Hz]: softness of the joint and limit rows; contact_hz [Hz]: of the
+            floor contacts (critically damped; physical, independent of dt).
     Hip commands (the servo actions) are angles relative to the build pose [rad],
     positive = femur swung forward.
     """
     b = Builder("puppy", dt=dt, solver_iterations=solver_iterations, relaxation=relaxation,
-                friction=friction, restitution=restitution, contact_slop=0.001)
+                friction=friction, restitution=restitution, contact_slop=0.001,
+                joint_hz=joint_hz, limit_hz=joint_hz, contact_hz=contact_hz)
     if not 0.0 < float(skin_ratio) <= 1.0:
         raise ValueError(f"puppy: skin_ratio must lie in (0, 1], got {skin_ratio}")
     default = b.materials[0]

@@ -11,6 +11,8 @@ hips at z 0.4 and knees at z 0.2, axes y; density 1000 kg/m^3; servos gain 50 1/
 1440 deg/s, commands within +-45 deg, no dead band; servo order knees 1-4 then hips 1-4
 (motor ids 0-7); ground mu 0.5, slop 0.01 m, restitution 0.01; warm start 0.85.
 Solver iterations: 20, as the JSON's dt = 0.01 s variant (``demi_predator.json``).
+Compliance: the builder's physical defaults, joints and limits 100 Hz, contacts 25 Hz,
+critically damped (:mod:`thesis.physics.builder`; independent of dt).
 Joints are parent -> child (spine -> femur -> tibia), so a positive hip angle rotates the
 femur about +y relative to the spine.
 """

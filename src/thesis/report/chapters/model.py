@@ -112,7 +112,9 @@ def summary_table(results) -> Table:
 
 
 def tables(results) -> list[Table]:
-    return [summary_table(results)]
+    from thesis.report import validation
+
+    return [summary_table(results), *validation.tables(results)]
 
 
 def figures(results, outdir: Path) -> list[Figure]:

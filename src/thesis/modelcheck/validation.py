@@ -1,0 +1,464 @@
+"""``thesis validate oncilla`` (registry ``model/validation``, ``model/convergence``): the
+simulated Oncilla on the thesis's own published gaits, decided against the validation
+targets V1-V6 of :mod:`thesis.modelcheck.targets` (issue 53 item 2).
+
+Protocol (every run; the one of ``thesis bench oncilla``, :mod:`thesis.modelcheck.checks`):
+untethered, flat floor, the ch4 model (``ch4.model``: time step, solver sweeps); the
+robot starts standing, eases into the gait's pose over ``ch4.protocol.settle`` seconds,
+enters the gait from itself over :data:`thesis.modelcheck.checks.SELF_TRANSITION` (1 s,
+§3.2.5) and is measured over the next ``seconds`` (the window). Each published gait of
+the flat ground (Tab. 3.1a, Tab. 3.1b, Tab. 4.2's flat optimum) runs at the profile's
+``frequencies`` (its other parameters as published) and at its own published frequency,
+each from ``starts`` perturbed starts: at the first command period the trunk's velocity
+changes by a random vector (each axis normal with ``start_velocity`` [m/s] standard
+deviation, stream ``model/validation/starts`` of the root seed; start ``s`` gets the same
+vector in every case, so that cases and time steps are compared on equal starts).
+
+Measured per run (window samples before the first fall, :func:`measure`): mean forward
+speed, fall (the ch3/ch4 criterion, any time from the start), largest roll and pitch of
+the trunk, stance compression (the commanded hip-to-toe length in stance, by forward
+kinematics of the commanded joint angles, minus the simulated one; stance = the leg's
+commanded phase inside its duty), and the scapulae's largest deviation from their
+commands. Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is recorded inside
+or outside the model's reach (:func:`reach`). V1-V6 are decided on these numbers
+(:func:`thesis.modelcheck.targets.decide`).
+
+``model/convergence`` measures the same runs three times: at the model's dt, at dt / 2,
+and at dt with twice the solver sweeps (the physical softness of
+:mod:`thesis.physics.builder` does not change with dt, so the three simulate one robot):
+the speeds must move by at most :data:`CONVERGENCE_SPEED` (10 %) and the fall rate by at
+most :data:`CONVERGENCE_FALL_POINTS` (5 percentage points) (issue 53 item 1).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import xarray as xr
+
+from thesis import seeding, store
+from thesis.gaits import conditions as C
+from thesis.gaits import leg as L
+from thesis.gaits import runner as R
+from thesis.gaits import trajectories as T
+from thesis.modelcheck import checks as M
+from thesis.modelcheck import targets as TG
+
+#: Largest relative change of a case's speed between the settings of the convergence table.
+CONVERGENCE_SPEED = 0.10
+#: Largest change of the fall rate [fraction] between the settings of the convergence table.
+CONVERGENCE_FALL_POINTS = 0.05
+#: Settings of the convergence table: (name, dt factor, sweeps factor).
+SETTINGS = (("dt", 1.0, 1), ("dt/2", 0.5, 1), ("2x sweeps", 1.0, 2))
+#: Phases per cycle at which a foot path is drawn for the reach record.
+REACH_SAMPLES = 100
+
+
+def _family(name: str):
+    return T.FAMILIES[name]()
+
+
+def cases(cfg: dict) -> list[dict]:
+    """The (gait, frequency) cases of the instrument: each flat-ground published gait at
+    every frequency of ``cfg["frequencies"]`` and at its own; dicts with ``gait``
+    (name), ``family``, ``frequency`` [Hz], ``params`` (P,)."""
+    out = []
+    for g in TG.published_gaits():
+        if not g.flat:
+            continue
+        fam = _family(g.family)
+        own = g.params[fam.index("f")]
+        for f in sorted({float(x) for x in cfg["frequencies"]} | {float(own)}):
+            p = np.array(g.params, np.float64)
+            p[fam.index("f")] = f
+            out.append(dict(gait=g.name, family=g.family, frequency=f, params=p))
+    return out
+
+
+def start_kicks(root_seed: int, starts: int, sigma: float) -> np.ndarray:
+    """(starts, 3) trunk velocity changes [m/s] of the perturbed starts."""
+    rng = seeding.rng(root_seed, "model/validation/starts", 0)
+    return rng.normal(0.0, float(sigma), size=(int(starts), 3))
+
+
+def trunk_angles(rot) -> tuple[np.ndarray, np.ndarray]:
+    """Roll and pitch [rad] of trunk rotations ``rot`` (..., 3, 3) (world from body):
+    roll about the trunk's long axis (+ = left side up), pitch (+ = nose down)."""
+    r = np.asarray(rot, np.float64)
+    roll = np.arctan2(r[..., 2, 1], r[..., 2, 2])
+    pitch = np.arcsin(np.clip(-r[..., 2, 0], -1.0, 1.0))
+    return roll, pitch
+
+
+def toe_in_hip_frames(model, sim) -> np.ndarray:
+    """(R, K, 4, 3) toe-sphere centres in each hip's frame (trunk axes, origin at the
+    hip) [m] at every sample of a :func:`thesis.modelcheck.checks.simulate_runs` result."""
+    trunk = M.O.trunk_index(model)
+    toes = np.asarray(M.O.toe_spheres())
+    body = np.asarray(model.csphere_body)[toes]
+    off = np.asarray(model.csphere_offset, np.float64)[toes]
+    pos = sim["pos"].astype(np.float64)
+    rot = sim["rot"].astype(np.float64)
+    world = pos[:, :, body] + np.einsum("rknij,nj->rkni", rot[:, :, body], off)
+    rel = world - pos[:, :, trunk][:, :, None]
+    return np.einsum("rkni,rkij->rknj", rel, rot[:, :, trunk]) - np.asarray(M.O.HIPS)
+
+
+def commanded_toes(family, cmd) -> np.ndarray:
+    """(R, K, 4, 3) hip-frame toe positions [m] of the commanded joint angles ``cmd``
+    (R, K, 12) (forward kinematics of each leg's geometry: what the servos are asked)."""
+    c = np.asarray(cmd, np.float64).reshape(cmd.shape[:2] + (4, 3))
+    out = []
+    for i, (geom, side) in enumerate(zip(family.legs, L.SIDES)):
+        out.append(np.asarray(L.forward3d(geom, c[..., i, 0], c[..., i, 1], c[..., i, 2],
+                                          side)))
+    return np.stack(out, axis=2)
+
+
+def measure(model, state, family, params, kicks, *, settle: float, seconds: float,
+            fall_height: float, batch: int) -> dict:
+    """Run ``params`` (N, P) of ``family`` from each of the perturbed starts ``kicks``
+    (S, 3) and measure them (module docstring).
+
+    Returns:
+        dict of (N, S) arrays: ``speed`` [m/s] (window), ``fallen`` (bool, from the
+        start), ``fall_time`` [s] (NaN: up), ``roll_max``, ``pitch_max`` [rad] (largest
+        |angle| in the window while up), ``compression`` [m] (mean commanded minus
+        simulated hip-to-toe length in stance while up), ``length_commanded`` [m],
+        ``scapula_max_dev`` [rad] (largest |scapula - command| in the window while up),
+        ``scapula_min``, ``scapula_max`` [rad] (scapula angle range in the window); and
+        ``wall`` [s].
+    """
+    params = np.asarray(params, np.float64)
+    n, s = len(params), len(kicks)
+    p = np.repeat(params, s, axis=0)
+    runs = dict(p=p, stand=np.zeros(len(p)), kick=np.tile(kicks, (n, 1)),
+                kick_time=np.zeros(len(p)))
+    t0 = settle + M.SELF_TRANSITION
+    sim = M.simulate_runs(model, state, runs, duration=t0 + seconds, settle=settle,
+                          t_transition=M.SELF_TRANSITION, batch=batch, family=family)
+    whole = R.speed_terms(model, sim, 0.0, fall_height)
+    win = R.speed_terms(model, sim, t0, fall_height)
+    up = M.upright_mask(model, sim, fall_height, t0)
+    trunk = M.O.trunk_index(model)
+    roll, pitch = trunk_angles(sim["rot"][:, :, trunk])
+
+    def wmax(x):
+        with np.errstate(invalid="ignore"):
+            return np.where(up.any(1), np.where(up, np.abs(x), 0.0).max(1), np.nan)
+
+    scap = sim["q"][..., M.scapula_dofs(model)].astype(np.float64)
+    dev = np.abs(scap - sim["cmd"][..., list(M.SCAPULA_COMMANDS)]).max(-1)
+    big = np.where(up[..., None], scap, np.nan)
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: fallen runs
+        s_min, s_max = np.nanmin(big, axis=(1, 2)), np.nanmax(big, axis=(1, 2))
+    # stance compression
+    f = p[:, family.index("f")]
+    duty = p[:, family.index("duty")]
+    phase = f[:, None] * (sim["t"][None] - R.COMMAND_PERIOD - settle)
+    legs = np.mod(phase[..., None] + np.asarray(family.phase_offsets), 1.0)
+    stance = (legs < duty[:, None, None]) & up[..., None]
+    length = np.linalg.norm(toe_in_hip_frames(model, sim), axis=-1)
+    want = np.linalg.norm(commanded_toes(family, sim["cmd"]), axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cnt = stance.sum((1, 2))
+        comp = np.where(cnt > 0, np.where(stance, want - length, 0.0).sum((1, 2))
+                        / np.maximum(cnt, 1), np.nan)
+        lcmd = np.where(cnt > 0, np.where(stance, want, 0.0).sum((1, 2))
+                        / np.maximum(cnt, 1), np.nan)
+    fall_t = np.where(whole["fallen"], whole["upright"] * sim["t"][-1], np.nan)
+    out = dict(speed=win["speed"], fallen=whole["fallen"], fall_time=fall_t,
+               roll_max=wmax(roll), pitch_max=wmax(pitch), compression=comp,
+               length_commanded=lcmd, scapula_max_dev=wmax(dev), scapula_min=s_min,
+               scapula_max=s_max)
+    out = {k: np.asarray(v).reshape(n, s) for k, v in out.items()}
+    out["wall"] = sim["wall"]
+    return out
+
+
+def measure_cases(model, state, cs: list[dict], kicks, *, settle, seconds, fall_height,
+                  batch) -> dict:
+    """:func:`measure` of every case of :func:`cases` (one compiled rollout per family);
+    (C, S) arrays in case order, ``wall`` summed."""
+    out: dict = {}
+    wall = 0.0
+    order = []
+    for fam_name in sorted({c["family"] for c in cs}):
+        idx = [i for i, c in enumerate(cs) if c["family"] == fam_name]
+        m = measure(model, state, _family(fam_name), np.stack([cs[i]["params"] for i in idx]),
+                    kicks, settle=settle, seconds=seconds, fall_height=fall_height,
+                    batch=batch)
+        wall += m.pop("wall")
+        order += idx
+        for k, v in m.items():
+            out.setdefault(k, []).append(v)
+    inv = np.argsort(order)
+    res = {k: np.concatenate(v)[inv] for k, v in out.items()}
+    res["wall"] = wall
+    return res
+
+
+#: Parts of a foot path in the reach record.
+PATH_PARTS = ("cycle", "stance", "swing")
+
+
+def reach(family_name: str, params, samples: int = REACH_SAMPLES) -> np.ndarray:
+    """(3, 4) fraction of the foot targets of ``params`` (family order) that lie outside
+    each leg's reachable area (columns LEGS order, fore and hind geometries; a target
+    more than 1 mm from the nearest reachable point), over the whole cycle, its stance
+    and its swing (rows :data:`PATH_PARTS`), drawn at ``samples`` phases; the sine family
+    draws no foot path (NaN)."""
+    fam = _family(family_name)
+    if not hasattr(fam, "foot_targets"):
+        return np.full((len(PATH_PARTS), 4), np.nan)
+    ph = jnp.arange(samples) / samples
+    tg = np.asarray(jax.vmap(lambda x: fam.foot_targets(jnp.asarray(params), x))(ph))
+    legs = np.mod(np.asarray(ph)[:, None] + np.asarray(fam.phase_offsets)[None, :], 1.0)
+    stance = legs < float(np.asarray(params)[fam.index("duty")])
+    out = np.full((len(PATH_PARTS), 4), np.nan)
+    for i, geom in enumerate(fam.legs):
+        sag = np.stack([tg[:, i, 0], tg[:, i, 2]], axis=-1)
+        outside = ~np.asarray(L.reachable(geom, sag, tol=1e-3))
+        for k, m in enumerate((np.ones(samples, bool), stance[:, i], ~stance[:, i])):
+            if m.any():
+                out[k, i] = float(outside[m].mean())
+    return out
+
+
+def _setup(ctx):
+    full = ctx.full_config
+    cfg = full["physics"]["oncilla_validation"]
+    pr = full["ch4"]["protocol"]
+    return full, cfg, float(pr["settle"]), float(pr["fall_height"])
+
+
+def _model(ch4: dict, dt_factor: float = 1.0, sweeps: int = 1):
+    m = dict(ch4["model"])
+    m["dt"] = float(m["dt"]) * dt_factor
+    m["solver_iterations"] = int(m["solver_iterations"]) * int(sweeps)
+    model, state = C.base_model({**ch4, "model": m})
+    return C.untethered(model), state
+
+
+def _a(units, long_name, **extra):
+    return dict(units=units, long_name=long_name, **extra)
+
+
+def _case_speeds(cs, m) -> tuple[dict, dict]:
+    speed, theory = {}, {}
+    for i, c in enumerate(cs):
+        key = (c["gait"], c["frequency"])
+        speed[key] = TG.gait_speed(m["speed"][i], m["fallen"][i])
+        theory[key] = float(_family(c["family"]).speed(c["params"]))
+    return speed, theory
+
+
+def _unit_of(key: str) -> str:
+    if key.startswith("speed") or key.endswith("Hz") and "frequencies" not in key:
+        return "m s-1"
+    if key.endswith("_deg"):
+        return "degree"
+    return "1"
+
+
+def validation(ctx) -> xr.Dataset:
+    """``thesis validate oncilla``: the published gaits on the model and V1-V6 (module
+    docstring; Tab. 3.1, Fig. 3.4, §3.3.1, Tab. 4.2)."""
+    full, cfg, settle, fall_height = _setup(ctx)
+    cs = cases(cfg)
+    kicks = start_kicks(ctx.root_seed, cfg["starts"], cfg["start_velocity"])
+    model, state = _model(full["ch4"])
+    m = measure_cases(model, state, cs, kicks, settle=settle, seconds=float(cfg["seconds"]),
+                      fall_height=fall_height, batch=int(cfg["batch"]))
+    ctx.log.info("oncilla validation: %d cases x %d starts in %.1f s", len(cs), len(kicks),
+                 m["wall"])
+    speed, theory = _case_speeds(cs, m)
+    flat = np.array([True for _ in cs])  # every case is a flat-ground published gait
+    falls = int(m["fallen"][flat].sum())
+    dev_deg = math.degrees(float(np.nanmax(m["scapula_max_dev"]))) \
+        if np.isfinite(m["scapula_max_dev"]).any() else float("nan")
+    decided = TG.decide(speed, theory, falls, int(m["fallen"].size), dev_deg)
+    ds = dataset(cs, kicks, m, speed, theory, decided)
+    ds.attrs.update(
+        title="Validation of the simulated Oncilla on the thesis's published gaits",
+        thesis_ref="Tab. 3.1, Fig. 3.4, §3.3.1, §3.3.3, Tab. 4.2-4.4",
+        seeds=[int(ctx.root_seed)], settle=settle, transition=M.SELF_TRANSITION,
+        seconds=float(cfg["seconds"]), fall_height=fall_height, untethered=1, floor="flat",
+        dt=float(model.dt), solver_iterations=int(model.solver_iterations),
+        model_code_sha256=M.model_code_sha256(),
+        targets_passed=",".join(k for k, v in decided.items() if v["passed"]),
+        targets_failed=",".join(k for k, v in decided.items() if not v["passed"]))
+    ds["rollout_wall_seconds"] = ((), float(m["wall"]), _a(
+        "s", "wall time of the rollouts, compilation included", **store.WALL_CLOCK))
+    return ds
+
+
+def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
+    """The validation dataset of :func:`validation` (cases x starts, reach, targets)."""
+    CS = ("case", "start")
+    keys = [(c["gait"], c["frequency"]) for c in cs]
+    data = dict(
+        speed=(CS, m["speed"], _a("m s-1", "mean forward trunk speed over the window")),
+        fallen=(CS, m["fallen"].astype(np.int8), _a("1", "1 if the run fell (ch3/ch4 "
+                                                         "criterion, from the start)")),
+        fall_time=(CS, m["fall_time"], _a("s", "time of the first fall (NaN: stayed up)")),
+        roll_max=(CS, m["roll_max"], _a("rad", "largest |trunk roll| in the window while up")),
+        pitch_max=(CS, m["pitch_max"], _a("rad", "largest |trunk pitch| in the window while "
+                                                 "up")),
+        stance_compression=(CS, m["compression"], _a(
+            "m", "commanded minus simulated hip-to-toe length in stance (mean over legs and "
+                 "stance samples while up)")),
+        stance_length_commanded=(CS, m["length_commanded"], _a(
+            "m", "commanded hip-to-toe length in stance (forward kinematics of the "
+                 "commands)")),
+        scapula_max_deviation=(CS, m["scapula_max_dev"], _a(
+            "rad", "largest |scapula angle - command| over the four legs in the window while "
+                   "up")),
+        scapula_min=(CS, m["scapula_min"], _a("rad", "smallest scapula angle in the window "
+                                                    "while up")),
+        scapula_max=(CS, m["scapula_max"], _a("rad", "largest scapula angle in the window "
+                                                    "while up")),
+        start_kick=(("start", "axis"), kicks, _a("m s-1", "trunk velocity change at the "
+                                                          "first command period")),
+        case_speed=(("case",), np.array([speed[k] for k in keys]), _a(
+            "m s-1", "speed of the case: mean over the starts that stayed up (NaN: fewer "
+                     "than half)")),
+        theoretical_speed=(("case",), np.array([theory[k] for k in keys]), _a(
+            "m s-1", "theoretical speed 2 a f / duty (Fig. 3.4)")),
+        case_falls=(("case",), m["fallen"].sum(1).astype(np.int64), _a("1", "fallen starts")),
+    )
+    with np.errstate(invalid="ignore", divide="ignore"):
+        data["speed_share"] = (("case",), data["case_speed"][1] / data["theoretical_speed"][1],
+                               _a("1", "case speed / theoretical speed"))
+    gaits = TG.published_gaits()
+    data["reach_outside"] = (("published", "path_part", "leg"),
+                             np.stack([reach(g.family, g.params) for g in gaits]),
+                             _a("1", "fraction of the published foot path outside the leg's "
+                                     "reachable area (one cycle, its stance, its swing)"))
+    data["published_flat"] = (("published",), np.array([g.flat for g in gaits], np.int8),
+                              _a("1", "1 if the thesis ran the gait on flat ground"))
+    data["target_passed"] = (("target",), np.array([decided[t]["passed"] for t in TG.TARGETS],
+                                                   np.int8),
+                             _a("1", "1 if the validation target passed"))
+    data["target_text"] = (("target",), np.array([decided[t]["text"] for t in TG.TARGETS]),
+                           _a("1", "the target's numbers beside its bounds"))
+    for t in TG.TARGETS:
+        for k, v in {**decided[t]["measured"], **decided[t]["bounds"]}.items():
+            name = f"{t}_{k}".replace(".", "p")
+            data[name] = ((), float(v), _a(_unit_of(k), f"{t}: {k}"))
+    coords = dict(case=np.arange(len(cs)), start=np.arange(len(kicks)), axis=["x", "y", "z"],
+                  case_gait=("case", [c["gait"] for c in cs]),
+                  case_frequency=("case", np.array([c["frequency"] for c in cs])),
+                  case_family=("case", [c["family"] for c in cs]),
+                  published=[g.name for g in gaits],
+                  published_source=("published", [g.source for g in gaits]),
+                  published_family=("published", [g.family for g in gaits]),
+                  leg=list(L.LEGS), target=list(TG.TARGETS), path_part=list(PATH_PARTS))
+    ds = xr.Dataset(data, coords=coords)
+    ds["case_frequency"].attrs.update(units="Hz", long_name="gait frequency of the case")
+    for name, long_name in (("case_gait", "published gait of the case"),
+                            ("case_family", "gait family of the case"),
+                            ("published_source", "thesis table of the published gait"),
+                            ("published_family", "gait family of the published gait")):
+        ds[name].attrs.update(units="1", long_name=long_name)
+    return ds
+
+
+def compare_settings(speeds, fall_rates):
+    """The convergence verdicts of refined settings against the first.
+
+    Args:
+        speeds: (G, C) case speeds [m/s] at G settings (NaN: undefined, the case fell);
+        fall_rates: (G, C) fraction of each case's starts that fell.
+
+    Returns:
+        (rel (G-1, C) |speed - speed_0| / speed_0, inf where the speed is defined at one
+        setting only; worst (G-1,) the largest of rel (NaN when no case is defined at
+        either); total (G,) the fall rate over all cases; dfall (G-1,) |total - total_0|;
+        passed (G-1,) bool: worst <= CONVERGENCE_SPEED and dfall <=
+        CONVERGENCE_FALL_POINTS, an undefined worst failing).
+    """
+    speeds = np.asarray(speeds, np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(speeds[1:] - speeds[0]) / np.abs(speeds[0])
+    # a speed defined at one setting and not at the other (a gait that falls at one) moved
+    rel = np.where(np.isnan(speeds[1:]) != np.isnan(speeds[0]), np.inf, rel)
+    total = np.asarray(fall_rates, np.float64).mean(axis=1)
+    dfall = np.abs(total[1:] - total[0])
+    worst = np.array([np.max(r[~np.isnan(r)]) if (~np.isnan(r)).any() else np.nan
+                      for r in rel])
+    passed = (np.nan_to_num(worst, nan=np.inf) <= CONVERGENCE_SPEED) \
+        & (dfall <= CONVERGENCE_FALL_POINTS + 1e-12)
+    return rel, worst, total, dfall, passed
+
+
+def convergence(ctx) -> xr.Dataset:
+    """``model/convergence``: the validation quantities at dt, dt / 2 and dt with twice the
+    sweeps, and whether speeds move <= 10 % and fall rates <= 5 points (module docstring)."""
+    full, cfg, settle, fall_height = _setup(ctx)
+    cs = cases(cfg)
+    kicks = start_kicks(ctx.root_seed, cfg["starts"], cfg["start_velocity"])
+    speeds, fall_rates, scap, walls, dts, sweeps = [], [], [], [], [], []
+    for name, fdt, fsw in SETTINGS:
+        model, state = _model(full["ch4"], fdt, fsw)
+        m = measure_cases(model, state, cs, kicks, settle=settle,
+                          seconds=float(cfg["seconds"]), fall_height=fall_height,
+                          batch=int(cfg["batch"]))
+        ctx.log.info("convergence %s: %.1f s", name, m["wall"])
+        sp, _ = _case_speeds(cs, m)
+        speeds.append([sp[(c["gait"], c["frequency"])] for c in cs])
+        fall_rates.append(m["fallen"].mean(1))
+        with warnings.catch_warnings():  # a case whose every start fell: NaN
+            warnings.simplefilter("ignore", RuntimeWarning)
+            scap.append(np.nanmax(m["scapula_max_dev"], axis=1))
+        walls.append(m["wall"])
+        dts.append(float(model.dt))
+        sweeps.append(int(model.solver_iterations))
+    speeds, fall_rates, scap = map(np.asarray, (speeds, fall_rates, scap))
+    rel, worst, total, dfall, passed = compare_settings(speeds, fall_rates)
+    both = np.where(np.isfinite(rel), rel, np.nan)
+    worst_both = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in both])
+    S, SC = ("setting",), ("setting", "case")
+    data = dict(
+        case_speed=(SC, speeds, _a("m s-1", "speed of the case (mean over the starts that "
+                                            "stayed up; NaN: fewer than half)")),
+        fall_rate=(SC, fall_rates, _a("1", "fraction of the case's starts that fell")),
+        total_fall_rate=(S, total, _a("1", "fraction of all runs that fell")),
+        scapula_max_deviation=(SC, scap, _a("rad", "largest scapula deviation from its "
+                                                   "command in the window while up")),
+        dt=(S, np.array(dts), _a("s", "physics time step")),
+        solver_iterations=(S, np.array(sweeps), _a("1", "solver sweeps per step")),
+        speed_change=(("refined", "case"), rel, _a(
+            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
+        max_speed_change=(("refined",), worst, _a("1", "largest relative speed change "
+                                                        "(inf: a case whose speed is defined "
+                                                        "at one setting only)")),
+        max_speed_change_defined=(("refined",), worst_both, _a(
+            "1", "largest relative speed change among the cases defined at both settings")),
+        fall_rate_change=(("refined",), dfall, _a("1", "|fall rate - fall rate at dt|")),
+        converged=(("refined",), passed.astype(np.int8), _a(
+            "1", f"1 if speeds moved <= {CONVERGENCE_SPEED:.0%} and the fall rate <= "
+                 f"{CONVERGENCE_FALL_POINTS * 100:.0f} points")),
+        rollout_wall_seconds=(S, np.array(walls), _a("s", "wall time of the rollouts, "
+                                                         "compilation included",
+                                                      **store.WALL_CLOCK)),
+    )
+    coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
+                  case=np.arange(len(cs)), case_gait=("case", [c["gait"] for c in cs]),
+                  case_frequency=("case", np.array([c["frequency"] for c in cs])))
+    ds = xr.Dataset(data, coords=coords)
+    ds["case_frequency"].attrs.update(units="Hz", long_name="gait frequency of the case")
+    ds["case_gait"].attrs.update(units="1", long_name="published gait of the case")
+    ds.attrs.update(
+        title="Convergence of the simulated Oncilla's validation quantities in dt and sweeps",
+        thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2 (the published gaits of the validation)",
+        seeds=[int(ctx.root_seed)], settle=settle, seconds=float(cfg["seconds"]),
+        fall_height=fall_height, speed_tolerance=CONVERGENCE_SPEED,
+        fall_tolerance=CONVERGENCE_FALL_POINTS, model_code_sha256=M.model_code_sha256(),
+        converged=int(passed.all()))
+    return ds

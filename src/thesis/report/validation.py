@@ -1,0 +1,172 @@
+"""Report tables of the Oncilla model's validation (``results/<profile>/model/validation.nc``
+and ``convergence.nc``, :mod:`thesis.modelcheck.validation`): V1-V6 passed or failed with
+their numbers, the published gaits on the model, every published optimum's foot path
+inside or outside the model's reach, and the convergence table in dt and solver sweeps.
+
+Every number is read from the datasets; without one a table says "not run".
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from thesis.report.format import fmt
+from thesis.report.model import NOT_RUN, Table
+
+VALIDATION = "model/validation"
+CONVERGENCE = "model/convergence"
+
+
+def _deg(x) -> str:
+    x = float(x)
+    return "—" if not np.isfinite(x) else f"{math.degrees(x):.1f}"
+
+
+def targets_table(results: dict) -> Table:
+    """V1-V6: passed or failed, with the numbers beside the bounds."""
+    ds = results.get(VALIDATION)
+    if ds is None:
+        rows = [[NOT_RUN, NOT_RUN, NOT_RUN]]
+        note = ""
+    else:
+        rows = [[str(t), "passed" if int(p) else "FAILED", str(txt)]
+                for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
+                                     ds["target_text"].values)]
+        note = (f"{int(ds.sizes['start'])} perturbed starts per case (trunk velocity kick, "
+                f"sd {fmt(float(np.std(ds['start_kick'].values)), 2)} m/s measured); "
+                f"settle {ds.attrs.get('settle')} s, 1-s self-transition, "
+                f"{ds.attrs.get('seconds')} s window; dt "
+                f"{fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
+                f"{ds.attrs.get('solver_iterations')} sweeps; untethered, flat floor. "
+                "Targets and their bounds: thesis.modelcheck.targets (written before the "
+                "model was run); a speed of nan: fewer than half the starts stayed up.")
+    return Table(id="oncilla_validation", title="Validation of the simulated Oncilla "
+                 "(targets V1-V6)", thesis_ref="Tab. 3.1, Fig. 3.4, §3.3.1, Tab. 4.2",
+                 columns=["target", "verdict", "numbers"], rows=rows, note=note)
+
+
+def cases_table(results: dict) -> Table:
+    """The published gaits on the model: one row per gait and frequency."""
+    ds = results.get(VALIDATION)
+    cols = ["gait", "f [Hz]", "theory [m/s]", "speed [m/s] (starts)", "share of theory",
+            "fallen", "stance compression [mm]", "max |roll| [deg]", "max |pitch| [deg]",
+            "max scapula error [deg]"]
+    if ds is None:
+        return Table(id="oncilla_validation_cases", title="Published gaits on the model",
+                     thesis_ref="Tab. 3.1, Fig. 3.4", columns=cols,
+                     rows=[[NOT_RUN] * len(cols)])
+    rows = []
+    for c in range(int(ds.sizes["case"])):
+        d = ds.isel(case=c)
+        sp = d["speed"].values
+        rows.append([str(d["case_gait"].values), fmt(float(d["case_frequency"]), 3),
+                     fmt(float(d["theoretical_speed"]), 3),
+                     f"{fmt(float(d['case_speed']), 3)} ({', '.join(fmt(v, 2) for v in sp)})",
+                     fmt(float(d["speed_share"]), 2),
+                     f"{int(d['case_falls'])} / {len(sp)}",
+                     fmt(1e3 * float(np.nanmean(d["stance_compression"].values))
+                         if np.isfinite(d["stance_compression"].values).any() else np.nan, 2),
+                     _deg(np.nanmax(d["roll_max"].values)
+                          if np.isfinite(d["roll_max"].values).any() else np.nan),
+                     _deg(np.nanmax(d["pitch_max"].values)
+                          if np.isfinite(d["pitch_max"].values).any() else np.nan),
+                     _deg(np.nanmax(d["scapula_max_deviation"].values)
+                          if np.isfinite(d["scapula_max_deviation"].values).any() else np.nan)])
+    return Table(id="oncilla_validation_cases", title="Published gaits on the model",
+                 thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2", columns=cols, rows=rows,
+                 note="speed: mean over the starts that stayed up (— when fewer than half "
+                      "did), each start's in brackets; stance compression: commanded minus "
+                      "simulated hip-to-toe length in stance; angles while up in the window.")
+
+
+def reach_table(results: dict) -> Table:
+    """Every published optimum's foot path inside or outside the model's reach."""
+    ds = results.get(VALIDATION)
+    legs = [] if ds is None else [str(x) for x in ds["leg"].values]
+    cols = ["gait", "source", "flat ground"] + [f"{leg} outside reach: stance / swing"
+                                                for leg in legs]
+    if ds is None:
+        return Table(id="oncilla_reach", title="Published foot paths and the model's reach",
+                     thesis_ref="Fig. 3.3, §3.3.1, Tab. 4.2-4.4", columns=cols + ["—"],
+                     rows=[[NOT_RUN] * 4])
+    r = ds["reach_outside"]
+    rows = [[str(g), str(src), "yes" if int(fl) else "no",
+             *[f"{100 * float(st):.0f} % / {100 * float(sw):.0f} %"
+               for st, sw in zip(r.sel(published=g, path_part="stance").values,
+                                 r.sel(published=g, path_part="swing").values)]]
+            for g, src, fl in zip(ds["published"].values, ds["published_source"].values,
+                                  ds["published_flat"].values)]
+    return Table(id="oncilla_reach", title="Published foot paths and the model's reach",
+                 thesis_ref="Fig. 3.3, §3.3.1, Tab. 4.2-4.4", columns=cols, rows=rows,
+                 note="share of one cycle's foot targets (100 phases) more than 1 mm from the "
+                      "nearest point the leg's joint ranges reach (thesis.gaits.leg.reachable).")
+
+
+def convergence_table(results: dict) -> Table:
+    """The validation quantities at dt, dt / 2 and dt with twice the sweeps."""
+    ds = results.get(CONVERGENCE)
+    cols = ["setting", "dt [ms]", "sweeps", "fall rate", "largest speed change",
+            "largest speed change (cases up at both)", "fall-rate change [points]",
+            "verdict"]
+    if ds is None:
+        return Table(id="oncilla_convergence", title="Convergence in the time step and sweeps",
+                     thesis_ref="—", columns=cols, rows=[[NOT_RUN] * len(cols)])
+    rows = []
+    for s in ds["setting"].values:
+        d = ds.sel(setting=s)
+        row = [str(s), fmt(1e3 * float(d["dt"]), 3), str(int(d["solver_iterations"])),
+               f"{100 * float(d['total_fall_rate']):.0f} %"]
+        if s in ds["refined"].values:
+            r = ds.sel(refined=s)
+            ch = float(r["max_speed_change"])
+            both = float(r["max_speed_change_defined"]) \
+                if "max_speed_change_defined" in r else float("nan")
+            row += ["a speed defined at one setting only" if np.isinf(ch) else
+                    ("—" if not np.isfinite(ch) else f"{100 * ch:.0f} %"),
+                    "—" if not np.isfinite(both) else f"{100 * both:.0f} %",
+                    f"{100 * float(r['fall_rate_change']):.0f}",
+                    "converged" if int(r["converged"]) else "NOT converged"]
+        else:
+            row += ["(reference)", "(reference)", "(reference)", ""]
+        rows.append(row)
+    return Table(id="oncilla_convergence", title="Convergence of the validation in the time "
+                 "step and the solver sweeps", thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2",
+                 columns=cols, rows=rows,
+                 note=f"passes when every case's speed moves by at most "
+                      f"{100 * float(ds.attrs.get('speed_tolerance', np.nan)):.0f} % and the "
+                      f"fall rate by at most "
+                      f"{100 * float(ds.attrs.get('fall_tolerance', np.nan)):.0f} points "
+                      "against the model's own dt (a case whose speed is defined at one setting "
+                      "and not at the other counts as moved).")
+
+
+def convergence_cases_table(results: dict) -> Table:
+    """Per case: speed and fall rate at each setting of the convergence table."""
+    ds = results.get(CONVERGENCE)
+    settings = [] if ds is None else [str(s) for s in ds["setting"].values]
+    cols = ["gait", "f [Hz]"] + [f"speed [m/s] at {s}" for s in settings] \
+        + [f"fallen at {s}" for s in settings] + [f"max scapula error [deg] at {s}"
+                                                   for s in settings]
+    if ds is None:
+        return Table(id="oncilla_convergence_cases", title="Convergence per case",
+                     thesis_ref="—", columns=["—"], rows=[[NOT_RUN]])
+    rows = []
+    for c in range(int(ds.sizes["case"])):
+        d = ds.isel(case=c)
+        rows.append([str(d["case_gait"].values), fmt(float(d["case_frequency"]), 3),
+                     *[fmt(float(v), 3) for v in d["case_speed"].values],
+                     *[f"{100 * float(v):.0f} %" for v in d["fall_rate"].values],
+                     *[_deg(v) for v in d["scapula_max_deviation"].values]])
+    return Table(id="oncilla_convergence_cases", title="Convergence of the validation per "
+                 "gait and frequency", thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2",
+                 columns=cols, rows=rows,
+                 note="speed: mean over the starts that stayed up (nan: fewer than half "
+                      "did); the same perturbed starts at every setting.")
+
+
+def tables(results: dict) -> list[Table]:
+    """The validation's tables (``results`` keyed like ``"model/validation"``)."""
+    return [targets_table(results), cases_table(results), reach_table(results),
+            convergence_table(results), convergence_cases_table(results)]

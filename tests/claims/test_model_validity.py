@@ -1,0 +1,51 @@
+"""Claims decided on an unvalidated model (thesis.claims.model_validity): the flag is
+attached exactly to the claims resting on chapters 3, 4 and 6 when a validation target
+failed, lists the failed targets, and is shown beside the verdict in the report."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis.claims import CLAIMS, evaluate, model_validity as MV
+from thesis.report import verdicts as V
+
+
+def _validation(passed):
+    targets = ["V1", "V2", "V3", "V4", "V5", "V6"]
+    return xr.Dataset(dict(
+        target_passed=(("target",), np.array(passed, np.int8)),
+        target_text=(("target",), np.array([f"{t} numbers" for t in targets]))),
+        coords=dict(target=targets))
+
+
+def test_flag_only_on_oncilla_claims_and_only_when_a_target_failed():
+    failed = {"model/validation": _validation([1, 0, 0, 1, 1, 1])}
+    f = MV.flag(["ch3/table3_1"], failed)["model_validation"]
+    assert f["unvalidated"] and [x["target"] for x in f["failed_targets"]] == ["V2", "V3"]
+    assert f["failed_targets"][0]["text"] == "V2 numbers"
+    assert MV.flag(["ch7/ball"], failed) == {}
+    assert MV.flag(["ch6/trot", "ch7/ball"], failed)["model_validation"]["unvalidated"]
+    assert MV.flag(["ch4/flat"], {}) == {}  # validation not run: no flag
+    assert MV.flag(["ch4/flat"], failed, "not_run") == {}  # nothing decided: no flag
+    ok = {"model/validation": _validation([1] * 6)}
+    assert MV.flag(["ch4/flat"], ok) == {"model_validation": {"unvalidated": False,
+                                                              "failed_targets": []}}
+
+
+def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
+    results = {"model/validation": _validation([0, 1, 1, 1, 1, 1])}
+    oncilla = [c for c in CLAIMS if MV.rests_on_oncilla(c.requires)]
+    assert {c.chapter for c in oncilla} >= {3, 4, 6}
+    others = [c for c in CLAIMS if not MV.rests_on_oncilla(c.requires)]
+    out = evaluate(oncilla[0], results)
+    assert out["status"] == "not_run" and "model_validation" not in out
+    out = {**out, "status": "not_reproduced",
+           **MV.flag(oncilla[0].requires, results, "not_reproduced")}
+    assert out["model_validation"]["unvalidated"]
+    assert "decided on an unvalidated model (failed: V1" in MV.text(out)
+    assert "model_validation" not in evaluate(others[0], results)
+    assert MV.UNVALIDATED in V.claims_html([out])
+    assert any(MV.UNVALIDATED in line for line in V.summary_lines([out], out["chapter"]))
+    plain = {**out, "model_validation": {"unvalidated": False, "failed_targets": []}}
+    assert MV.UNVALIDATED not in V.claims_html([plain])

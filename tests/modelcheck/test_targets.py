@@ -1,0 +1,86 @@
+"""The validation targets V1-V6 (thesis.modelcheck.targets) decide synthetic numbers as
+their docstring says: each passes inside its bounds and fails just outside them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from thesis.modelcheck import targets as T
+
+
+def _measurements(ellipse_share=0.6, spline_share=0.95, v15=0.30, s15=0.41, s26=0.59):
+    """Speeds linear in f at a constant share of theory (what Fig. 3.4 shows)."""
+    speed, theory = {}, {}
+    for f in (0.5, 1.0, 1.5, 2.0):
+        th = 2 * 0.07595 * f / 0.5
+        theory[("tab3_1a", f)] = th
+        speed[("tab3_1a", f)] = ellipse_share * th
+    speed[("tab3_1a", 1.5)] = v15
+    for f in (1.5, 2.0, 2.6):
+        th = 2 * 0.091 * f / 0.6
+        theory[("tab3_1b", f)] = th
+        speed[("tab3_1b", f)] = spline_share * th
+    speed[("tab3_1b", 1.5)], speed[("tab3_1b", 2.6)] = s15, s26
+    return speed, theory
+
+
+def test_published_vectors_are_the_tables():
+    g = {x.name: x for x in T.published_gaits()}
+    assert g["tab3_1a"].params == (138.45, 0.39, -6.83, 75.95, 13.69, 26.12, 0.5, 1.94)
+    assert g["tab3_1b"].params[:6] == (2.0, 91.0, 139.0, 0.0, -18.0, 0.6)
+    assert g["table4_2_grade0_transfer0"].flat
+    assert sum(x.flat for x in g.values()) == 3
+    assert len({x.params for x in g.values()}) == len(g)  # no repeated vector
+
+
+def test_published_speeds():
+    assert T.published_speeds() == {"v1": (0.27, 0.30), "v2": {1.5: 0.41, 2.6: 0.59}}
+    assert T.speed_bounds(0.27, 0.30) == pytest.approx((0.2025, 0.375))
+
+
+def test_all_pass_on_the_thesis_shape():
+    speed, theory = _measurements(v15=0.6 * 2 * 0.07595 * 1.5 / 0.5)
+    out = T.decide(speed, theory, falls=1, runs=20, scapula_max_deg=1.9)
+    assert [k for k, v in out.items() if not v["passed"]] == []
+
+
+@pytest.mark.parametrize("change, failed", [
+    (dict(v15=0.20), {"V1", "V4"}),  # 0.20 < 0.2025; the line bends
+    (dict(s15=0.25), {"V2", "V4", "V5"}),  # slower than the half ellipse's 0.273
+    (dict(s26=0.74), {"V2"}),
+    (dict(spline_share=0.75), {"V4"}),
+])
+def test_each_bound_fails_outside(change, failed):
+    speed, theory = _measurements(**{"v15": 0.6 * 2 * 0.07595 * 1.5 / 0.5, **change})
+    out = T.decide(speed, theory, falls=0, runs=20, scapula_max_deg=0.5)
+    assert {k for k, v in out.items() if not v["passed"]} == failed
+
+
+def test_falls_scapula_and_missing_runs_fail():
+    speed, theory = _measurements(v15=0.6 * 2 * 0.07595 * 1.5 / 0.5)
+    out = T.decide(speed, theory, falls=2, runs=20, scapula_max_deg=2.01)
+    assert not out["V3"]["passed"] and not out["V6"]["passed"]
+    out = T.decide({}, {}, falls=0, runs=0, scapula_max_deg=float("nan"))
+    assert not any(v["passed"] for k, v in out.items() if k != "V3")
+
+
+def test_share_spread_rule():
+    """A ratio to theory rising from 0.29 to 0.88 (the issue's model) fails V4 even where
+    the speeds' line fits well."""
+    speed, theory = _measurements(v15=0.6 * 2 * 0.07595 * 1.5 / 0.5)
+    for f, share in zip((0.5, 1.0, 1.5, 2.0), (0.29, 0.48, 0.66, 0.88)):
+        speed[("tab3_1a", f)] = share * theory[("tab3_1a", f)]
+    out = T.decide(speed, theory, falls=0, runs=20, scapula_max_deg=0.0)
+    assert not out["V4"]["passed"]
+    assert out["V4"]["measured"]["ellipse_share_spread"] > T.SHARE_SPREAD
+
+
+def test_gait_speed_needs_half_upright():
+    assert T.gait_speed([0.3, 0.5, 0.1], [False, False, True]) == pytest.approx(0.4)
+    assert math.isnan(T.gait_speed([0.3, 0.5, 0.1], [True, True, False]))
+    assert T.linear_r2([0.5, 1.0, 1.5], [1.0, 2.0, 3.0]) == pytest.approx(1.0)
+    assert math.isnan(T.linear_r2([0.5, 1.0], [1.0, 2.0]))
+    assert np.isfinite(T.linear_r2([0.5, 1.0, 1.5], [1.0, 2.5, 3.0]))

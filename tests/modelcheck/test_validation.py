@@ -1,0 +1,148 @@
+"""The Oncilla validation instrument (thesis.modelcheck.validation, ``thesis validate
+oncilla``): its measurements on cases where the answer is known, and the instrument end to
+end on a tiny configuration. No test asserts a target's outcome on the current model (that
+is what the instrument reports, not what the code guarantees)."""
+
+from __future__ import annotations
+
+import logging
+import math
+from types import SimpleNamespace
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from thesis import registry
+from thesis.config import load_config
+from thesis.gaits import conditions as C
+from thesis.gaits import trajectories as T
+from thesis.modelcheck import checks as M
+from thesis.modelcheck import targets as TG
+from thesis.modelcheck import validation as V
+
+
+def _rot_x(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def _rot_y(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def test_trunk_angles_read_roll_and_pitch():
+    roll, pitch = V.trunk_angles(np.stack([_rot_x(0.3), _rot_y(0.2), np.eye(3)]))
+    np.testing.assert_allclose(roll, [0.3, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(pitch, [0.0, 0.2, 0.0], atol=1e-12)
+
+
+def test_cases_run_every_flat_published_gait_at_the_frequencies_and_its_own():
+    cs = V.cases({"frequencies": [1.5, 2.6]})
+    flat = [g for g in TG.published_gaits() if g.flat]
+    got = {(c["gait"], c["frequency"]) for c in cs}
+    for g in flat:
+        fam = T.FAMILIES[g.family]()
+        own = g.params[fam.index("f")]
+        assert {(g.name, 1.5), (g.name, 2.6), (g.name, own)} <= got
+    c = next(c for c in cs if c["gait"] == "tab3_1b" and c["frequency"] == 2.6)
+    fam = T.SplineGait()
+    assert c["params"][fam.index("f")] == 2.6 and c["params"][fam.index("a")] == 91.0
+
+
+def test_start_kicks_are_seeded_and_sized():
+    a = V.start_kicks(2018, 400, 0.05)
+    np.testing.assert_array_equal(a, V.start_kicks(2018, 400, 0.05))
+    assert a.shape == (400, 3) and np.std(a) == pytest.approx(0.05, rel=0.1)
+    assert not np.allclose(a, V.start_kicks(2019, 400, 0.05))
+
+
+def test_commanded_toes_are_the_targets_the_commands_reach():
+    """Forward kinematics of the commanded joint angles gives back the foot targets the
+    IK was asked for, where they are reachable (Tab. 3.1a's half ellipse)."""
+    fam = T.EllipseGait()
+    p = jnp.asarray(next(g for g in TG.published_gaits() if g.name == "tab3_1a").params)
+    phases = np.linspace(0.0, 1.0, 7, endpoint=False)
+    cmd = np.stack([np.asarray(fam.commands_at_phase(p, x)) for x in phases])[None]
+    want = np.stack([np.asarray(fam.foot_targets(p, x)) for x in phases])[None]
+    np.testing.assert_allclose(V.commanded_toes(fam, cmd), want, atol=1e-3)
+
+
+def test_toes_of_the_build_state_sit_build_depth_below_the_hips():
+    model, state = C.base_model(load_config("smoke")["ch4"])
+    sim = dict(pos=np.asarray(state.pos)[None, None], rot=np.asarray(state.rot)[None, None])
+    toe = V.toe_in_hip_frames(model, sim)[0, 0]
+    np.testing.assert_allclose(toe, np.tile([0.0, 0.0, -M.O.BUILD_DEPTH], (4, 1)), atol=1e-4)
+
+
+def test_reach_inside_and_outside():
+    he = next(g for g in TG.published_gaits() if g.name == "tab3_1a")
+    np.testing.assert_array_equal(V.reach("ellipse", he.params), np.zeros((3, 4)))
+    p = np.array(he.params)
+    p[T.EllipseGait().index("x0")] = 300.0  # far below any leg's reach
+    np.testing.assert_array_equal(V.reach("ellipse", p), np.ones((3, 4)))
+    p = np.array(he.params)
+    fam = T.EllipseGait()
+    p[fam.index("b_fore")] = 120.0  # a swing far above the fore legs' flexion stop
+    r = V.reach("ellipse", p)
+    assert V.PATH_PARTS == ("cycle", "stance", "swing")
+    np.testing.assert_array_equal(r[1], 0.0)  # the stance stays reachable
+    assert np.all(r[2, :2] > 0.2) and np.all(r[2, 2:] == 0.0)  # fore swings only
+    assert r[0, 0] == pytest.approx(0.5 * r[2, 0], abs=0.02)  # duty 0.5
+    assert np.isnan(V.reach("sine", np.zeros(13))).all()
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    config = load_config("smoke", overrides={"physics": {"oncilla_validation": dict(
+        frequencies=[1.5], starts=2, seconds=0.3, batch=8)}})
+    ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
+                          key="model/validation", log=logging.getLogger("test"))
+    return V.validation(ctx)
+
+
+def test_validation_writes_every_quantity_and_decides_every_target(tiny):
+    ds = tiny
+    assert registry.resolve("model/validation") is V.validation
+    assert registry.VALIDATIONS["oncilla"] == ("model/validation", "model/convergence")
+    n_cases = len(V.cases({"frequencies": [1.5]}))
+    assert ds.sizes["case"] == n_cases and ds.sizes["start"] == 2
+    for name in ("speed", "fallen", "roll_max", "pitch_max", "stance_compression",
+                 "scapula_max_deviation", "reach_outside", "target_passed", "target_text",
+                 "V1_speed_1p5Hz", "V3_falls"):
+        assert name in ds and "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
+    assert list(ds["target"].values) == list(TG.TARGETS)
+    assert set(np.unique(ds["target_passed"].values)) <= {0, 1}
+    assert int(ds["V3_falls"]) == int(ds["fallen"].sum())
+    up = ds["fallen"].values == 0
+    # an upright trot's legs carry the robot: stance length within 3 cm of the command
+    assert np.all(np.abs(ds["stance_compression"].values[up]) < 0.03)
+    assert np.all(ds["scapula_max_deviation"].values[up] >= 0)
+    # V2's 2.6 Hz was not among the frequencies run, so V2 cannot pass
+    assert int(ds["target_passed"].sel(target="V2")) == 0
+    assert "nan" in str(ds["target_text"].sel(target="V2").values)
+
+
+def test_convergence_verdicts():
+    speeds = np.array([[0.30, 0.50, np.nan],
+                       [0.32, 0.52, np.nan],    # +6.7 %, +4 %: converged
+                       [0.30, np.nan, np.nan]])  # a case that falls only here: moved
+    falls = np.array([[0.0, 0.2, 1.0], [0.0, 0.2, 1.0], [0.0, 0.8, 1.0]])
+    rel, worst, total, dfall, passed = V.compare_settings(speeds, falls)
+    np.testing.assert_allclose(worst, [0.02 / 0.30, np.inf])
+    np.testing.assert_allclose(total, [0.4, 0.4, 0.6])
+    assert passed.tolist() == [True, False] and np.isinf(rel[1, 1])
+    # an 11 % move fails, as does a fall rate 6 points off
+    _, _, _, _, p2 = V.compare_settings([[1.0], [1.11]], [[0.0], [0.0]])
+    _, _, _, _, p3 = V.compare_settings([[1.0], [1.0]], [[0.0], [0.06]])
+    assert not p2[0] and not p3[0]
+
+
+def test_validate_verb_refuses_what_it_cannot_do():
+    from thesis import cli
+
+    with pytest.raises(SystemExit, match="unknown robot"):
+        cli.main(["validate", "puppy", "--profile", "smoke"])
+    with pytest.raises(SystemExit, match="--output needs --only"):
+        cli.main(["validate", "oncilla", "--profile", "smoke", "--output", "x.nc"])

@@ -1,0 +1,42 @@
+# The simulated Oncilla's validation (thesis.modelcheck.validation; `thesis validate
+# oncilla`): the thesis's published gaits on the model, decided against V1-V6
+# (thesis.modelcheck.targets), and the same runs at dt / 2 and with twice the solver sweeps
+# (the convergence table). Not a chapter: the claims of ch3, ch4 and ch6 read the
+# validation to mark verdicts decided on an unvalidated model, so both come before claims.
+
+MODEL_CODE = code_version(*CORE_CODE, "modelcheck", "gaits", "physics")
+
+for _name, _what, _minutes in [
+    ("validation", "the published gaits against V1-V6", 30),
+    ("convergence", "the validation at dt, dt/2 and twice the sweeps", 90),
+]:
+
+    rule:
+        name:
+            f"model_{_name}"
+        message:
+            f"Oncilla model: {_what}, profile {PROFILE}"
+        output:
+            nc=result("model", _name),
+        params:
+            cfg=cfg_slice(f"model/{_name}"),
+            code=MODEL_CODE,
+            only=_name,
+        log:
+            log_path("model", _name),
+        benchmark:
+            bench_path("model", _name)
+        threads: 2
+        resources:
+            **res("model", _name, mem_mb=4000, runtime=_minutes),
+        shell:
+            "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+            "--output {output.nc} > {log} 2>&1"
+
+
+MODEL_TARGETS = [rules.model_validation.output.nc, rules.model_convergence.output.nc]
+
+
+rule model:
+    input:
+        MODEL_TARGETS,
