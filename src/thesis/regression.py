@@ -225,8 +225,7 @@ def _twin_rms(a: np.ndarray, b: np.ndarray, axis: int | None = None) -> float:
     if sq.size == 0:
         return 0.0
     d2 = float(np.mean(sq)) if axis is None else float(np.max(np.mean(sq, axis=axis)))
-    d = float(np.sqrt(d2))
-    return 0.0 if d <= DEFAULT_ATOL else d
+    return float(np.sqrt(d2))
 
 
 def chaos_tolerance_from_rms(rms: float, n_over: int, z: float = CHAOS_Z) -> float:

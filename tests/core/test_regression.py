@@ -145,7 +145,6 @@ def test_committed_tolerances_are_narrower_than_the_spread_of_their_quantity():
             band = spec["atol"] + spec["rtol"] * np.abs(v).max()
             spread = v.max() - v.min()
             assert band < spread, f"{path.name}:{name}: tolerance {band:.3g} >= spread {spread:.3g}"
-    assert widened >= 1  # ch2's error rates carry their own tolerance
 
 
 def test_committed_chaotic_tolerances_are_what_their_twins_measured():
@@ -196,8 +195,11 @@ def test_every_host_class_reference_has_a_canonical_one():
 def test_ch2_smoke_references_are_better_than_chance():
     """Every cell of each committed smoke Tab. 2.2 learned (one-sided binomial test against
     0.9, the error of a model that learned nothing): a reference rewritten from models that
-    learned nothing (e.g. shuffled labels) cannot be committed, and the regression's
-    tolerance then tells such a run from the reference."""
+    learned nothing (e.g. shuffled labels) cannot be committed. Where the error rates are
+    chaotic (their twins move a single smoke run by more than its distance to chance), a
+    run at chance is told by the smoke run's own binomial test
+    (``tests/pipeline/test_smoke.py::test_smoke_ch2_models_learn``), not by the
+    regression; where they are not, the tolerance must tell it."""
     paths = [p for p in REFERENCE_FILES if p.parent.name == "ch2" and p.name == "table2_2.json"]
     assert paths
     n_test = int(load_config("smoke")["ch2"]["data"]["n_test"])
@@ -207,8 +209,8 @@ def test_ch2_smoke_references_are_better_than_chance():
         assert np.isfinite(err).all(), path
         assert better_than_chance(err, n_test).all(), (path, err.ravel().tolist())
         spec = ref["variables"]["test_error"]
-        tol = spec["chaos"]["atol"] if "chaos" in spec else spec["atol"]
-        assert CHANCE_ERROR - err.max() > tol  # a chance-level run differs beyond tolerance
+        if "chaos" not in spec:
+            assert CHANCE_ERROR - err.max() > spec["atol"]  # a chance-level run differs
 
 
 def test_host_class_from_machine_and_flags():
