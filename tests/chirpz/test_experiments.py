@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from thesis import registry
+from thesis.chirpz.train import FAILED_ERROR
 from thesis.config import load_config
 from thesis.runctx import RunContext
 
@@ -71,6 +72,14 @@ def test_table2_2_parts_and_join(tiny, model_parts):
         np.testing.assert_array_equal(te[0, 0, 1], te[0, 1, 1])
         n_cz = ds["n_params"].sel(transform="chirp_z")
         assert n_cz.sel(d=2) > n_cz.sel(d=3)
+        # every run is kept and flagged: failed is 1 exactly where the best validation
+        # error reached FAILED_ERROR (12 training sequences: some runs stay at chance)
+        best_valid = ds["valid_error"].min("epoch")
+        np.testing.assert_array_equal(ds["failed"].values, (best_valid >= FAILED_ERROR).values)
+        assert np.isfinite(te).all()
+        inside = ds["inside_fraction"]
+        assert np.isnan(inside.sel(transform="none")).all()
+        assert ((inside.sel(transform="chirp_z") >= 0) & (inside.sel(transform="chirp_z") <= 1)).all()
         paths[m] = path
     joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=paths))
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]

@@ -122,7 +122,7 @@ _COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
 def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
-    from thesis.chirpz.train import train
+    from thesis.chirpz.train import FAILED_ERROR, train
     from thesis.errors import SimulationDiverged
 
     cfg = ctx.config
@@ -134,6 +134,8 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     max_ep = int(tcfg["max_epochs"])
     shape = (len(ds_), len(trs), len(seeds))
     test = np.full(shape, np.nan)
+    failed = np.zeros(shape, np.int8)
+    inside = np.full(shape, np.nan)
     best_ep = np.full(shape, np.nan)
     secs = np.full(shape, np.nan)
     nparams = np.full(shape[:2], np.nan)
@@ -141,7 +143,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     for ti, tname in enumerate(trs):
         for di, d in enumerate(ds_):
             if tname == "none" and di > 0:  # no down-sampling: same network for every d
-                for arr in (test, best_ep, secs):
+                for arr in (test, failed, inside, best_ep, secs):
                     arr[di, ti] = arr[0, ti]
                 nparams[di, ti] = nparams[0, ti]
                 for arr in curves.values():
@@ -162,6 +164,10 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
                              model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
                 test[di, ti, si] = r.test_error
+                # a run that never left chance stays in the table, flagged (never dropped
+                # or rerun with another seed)
+                failed[di, ti, si] = int(r.failed)
+                inside[di, ti, si] = _inside(spec, r.params, data["test"][0])
                 best_ep[di, ti, si] = r.best_epoch
                 secs[di, ti, si] = r.seconds
                 nparams[di, ti] = r.n_params
@@ -183,6 +189,13 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                            "mean training cross-entropy per digit over the epoch"}),
             "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
                               "learning rate used in the epoch"}),
+            "failed": (dims, failed, {"units": "1", "long_name":
+                       "1: the run never left chance (best validation error >= "
+                       f"{FAILED_ERROR}); kept in test_error, flagged"}),
+            "inside_fraction": (dims, inside, {"units": "1", "long_name":
+                                "mean fraction of the best parameters' sampling grid on the "
+                                f"canvas over the first {INSIDE_SEQUENCES} test sequences "
+                                "(NaN: no transform)"}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
                            "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
@@ -198,6 +211,27 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     ds = ds.expand_dims(model=[model])
     ds.attrs.update(_size_attrs(cfg, meta, model))
     return ds
+
+
+#: test sequences over which :func:`_inside` averages (one forward of the localisation)
+INSIDE_SEQUENCES = 500
+
+
+def _inside(spec, params, images) -> float:
+    """Mean fraction of the transform's sampling grid on the canvas
+    (:func:`thesis.chirpz.transforms.inside_fraction`) over the first
+    :data:`INSIDE_SEQUENCES` of ``images`` (NaN for the transform "none"): a diagnostic of
+    runs at chance (a grid that has left the canvas samples zeros)."""
+    import jax.numpy as jnp
+
+    from thesis.chirpz.nets import localise
+    from thesis.chirpz.transforms import inside_fraction
+
+    if not spec.transform.n_params:
+        return float("nan")
+    x = jnp.asarray(images[: min(INSIDE_SEQUENCES, len(images))])
+    theta = localise(params, spec, x).reshape(-1, spec.transform.n_params)
+    return float(jnp.mean(inside_fraction(spec.transform, theta, spec.canvas, spec.out_size)))
 
 
 def _stream(model: str, transform: str, d: int) -> str:
