@@ -117,7 +117,10 @@ READS: dict[str, tuple[str, ...]] = {
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
     "ch2/train_step": ("ch2.train_bench", "ch2.chirpz_output", "ch2.ffn_spn", "ch2.rnn_spn",
                        "ch2.train", "ch2.data.canvas", "ch2.data.n_digits"),
-    "ch2/width_pilot": ("ch2.width_pilot", "ch2.train", "ch2.data", "ch2.chirpz_output"),
+    "ch2/width_pilot": ("ch2.width_pilot", "ch2.train", "ch2.chirpz_output", "ch2.data.canvas",
+                        "ch2.data.n_digits", "ch2.data.n_clutter", "ch2.data.clutter_size",
+                        "ch2.data.max_slope_deg", "ch2.data.mnist_idx",
+                        "ch2.data.idx_valid_pool", "ch2.data.embedded_test_fraction"),
     # ch4: a simulation reruns only when its protocol, swarm or condition changes, not
     # when a table or figure setting does
     "ch4/flat": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",

@@ -202,3 +202,11 @@ def test_training_step_benchmark(tiny):
     n = ds["n_params"].sel(model="rnn_spn")
     assert n.sel(transform="chirp_z", d=3) > n.sel(transform="chirp_z", d=4)  # larger crops
     assert n.sel(transform="none", d=3) == n.sel(transform="none", d=4)
+    fl = ds["step_flops"].sel(model="rnn_spn")
+    assert fl.sel(transform="chirp_z", d=3) > fl.sel(transform="chirp_z", d=4) > 0
+    assert fl.sel(transform="chirp_z", d=3) > fl.sel(transform="none", d=3)  # + localisation
+    # timed: false counts the same work and times nothing
+    c["train_bench"]["timed"] = False
+    only = registry.resolve("ch2/train_step")(dataclasses.replace(run, config=c))
+    np.testing.assert_array_equal(only["step_flops"].values, ds["step_flops"].values)
+    assert np.isnan(only["seconds"].values).all()
