@@ -171,6 +171,27 @@ def test_model_sections_override_train():
     assert cfg["train"]["max_epochs"] != 9  # the shared section is not modified
 
 
+def test_epoch_sequences_by_d_shortens_only_the_listed_d():
+    """A model's epoch_sequences_by_d sets the sequences per epoch of its spatial runs at
+    that d; other d, the other model and "none" (d None) keep train.epoch_sequences."""
+    from thesis.chirpz.experiments import _train_cfg
+    from thesis.config import validate_config
+
+    full = load_config("default")
+    full["ch2"]["ffn_spn"]["epoch_sequences_by_d"] = {"1": 1234}
+    cfg = validate_config(full)["ch2"]
+    shared = cfg["train"]["epoch_sequences"]
+    assert shared != 1234
+    assert _train_cfg(cfg, "ffn_spn", 1)["epoch_sequences"] == 1234
+    assert _train_cfg(cfg, "ffn_spn", 2)["epoch_sequences"] == shared
+    assert _train_cfg(cfg, "ffn_spn")["epoch_sequences"] == shared
+    assert _train_cfg(cfg, "rnn_spn", 1)["epoch_sequences"] == (
+        int(cfg["rnn_spn"]["epoch_sequences_by_d"].get("1", shared)))
+    full["ch2"]["ffn_spn"]["epoch_sequences_by_d"] = {"one": 5}
+    with pytest.raises(Exception, match="epoch_sequences_by_d"):
+        validate_config(full)
+
+
 def test_scaling_benchmark_is_registered():
     """``thesis bench chirpz`` runs the ch2 scaling experiment (its dataset's layout is
     checked on the smoke pipeline's result, tests/pipeline/layouts_ch2.py)."""

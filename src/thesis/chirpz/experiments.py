@@ -150,6 +150,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                     arr[di, ti] = arr[0, ti]
                 continue
             spec = _spec(cfg, model, tname, d, canvas, n_digits)
+            tcfg_d = _train_cfg(cfg, model, d if tname != "none" else None)
             for si, seed in enumerate(seeds):
                 # common random numbers: the streams name the model, d and seed but not
                 # the transform (module docstring)
@@ -160,7 +161,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 def diverged(step, _seed=seed):
                     raise SimulationDiverged(f"ch2/table2_2/{model}", _seed, step, "loss")
 
-                r = train(spec, data, tcfg, key, rng, log=ctx.log, on_nan=diverged)
+                r = train(spec, data, tcfg_d, key, rng, log=ctx.log, on_nan=diverged)
                 ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
                              model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
                 test[di, ti, si] = r.test_error
@@ -247,11 +248,17 @@ def _stream(model: str, transform: str, d: int) -> str:
 MODEL_TRAIN_KEYS = {"loc_lr_scale": float, "max_epochs": int}
 
 
-def _train_cfg(cfg: dict, model: str) -> dict:
+def _train_cfg(cfg: dict, model: str, d: int | None = None) -> dict:
     """The ``ch2.train`` section with the model's own ``loc_lr_scale`` and ``max_epochs``
-    where its section sets them (null or absent = the shared value)."""
+    where its section sets them (null or absent = the shared value), and for a
+    down-sampling factor ``d`` listed in the model's ``epoch_sequences_by_d`` that many
+    sequences per epoch (a shorter or longer run of the same number of epochs; ``d`` None,
+    e.g. the transform "none", which does not down-sample: the shared value)."""
     own = {k: cast(cfg[model][k]) for k, cast in MODEL_TRAIN_KEYS.items()
            if cfg[model].get(k) is not None}
+    by_d = cfg[model].get("epoch_sequences_by_d") or {}
+    if d is not None and str(int(d)) in by_d:
+        own["epoch_sequences"] = int(by_d[str(int(d))])
     return {**cfg["train"], **own}
 
 
@@ -276,6 +283,10 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "batch_size": int(cfg["train"]["batch_size"]),
         # training sequences per epoch; 0: the whole training split (thesis.chirpz.train)
         "epoch_sequences": int(cfg["train"].get("epoch_sequences") or 0),
+        # per model, the d whose runs take another number of sequences per epoch
+        "epoch_sequences_by_d": json.dumps(
+            {m: cfg[m].get("epoch_sequences_by_d") or {} for m in ([model] if model else MODELS)},
+            sort_keys=True),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
         "loc_lr_scale": _per_model(cfg, [model] if model else MODELS, "loc_lr_scale", 1.0),
