@@ -80,6 +80,9 @@ def test_table2_2_parts_and_join(tiny, model_parts):
         inside = ds["inside_fraction"]
         assert np.isnan(inside.sel(transform="none")).all()
         assert ((inside.sel(transform="chirp_z") >= 0) & (inside.sel(transform="chirp_z") <= 1)).all()
+        scale = ds["crop_scale"]
+        assert np.isnan(scale.sel(transform="none")).all()
+        assert (scale.sel(transform="chirp_z") > 0).all()
         paths[m] = path
     joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=paths))
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]

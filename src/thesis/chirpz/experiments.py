@@ -136,6 +136,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     test = np.full(shape, np.nan)
     failed = np.zeros(shape, np.int8)
     inside = np.full(shape, np.nan)
+    crop_scale = np.full(shape, np.nan)
     best_ep = np.full(shape, np.nan)
     secs = np.full(shape, np.nan)
     nparams = np.full(shape[:2], np.nan)
@@ -143,7 +144,7 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     for ti, tname in enumerate(trs):
         for di, d in enumerate(ds_):
             if tname == "none" and di > 0:  # no down-sampling: same network for every d
-                for arr in (test, failed, inside, best_ep, secs):
+                for arr in (test, failed, inside, crop_scale, best_ep, secs):
                     arr[di, ti] = arr[0, ti]
                 nparams[di, ti] = nparams[0, ti]
                 for arr in curves.values():
@@ -168,7 +169,8 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 # a run that never left chance stays in the table, flagged (never dropped
                 # or rerun with another seed)
                 failed[di, ti, si] = int(r.failed)
-                inside[di, ti, si] = _inside(spec, r.params, data["test"][0])
+                inside[di, ti, si], crop_scale[di, ti, si] = _inside(spec, r.params,
+                                                                     data["test"][0])
                 best_ep[di, ti, si] = r.best_epoch
                 secs[di, ti, si] = r.seconds
                 nparams[di, ti] = r.n_params
@@ -197,6 +199,10 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                                 "mean fraction of the best parameters' sampling grid on the "
                                 f"canvas over the first {INSIDE_SEQUENCES} test sequences "
                                 "(NaN: no transform)"}),
+            "crop_scale": (dims, crop_scale, {"units": "1", "long_name":
+                           "mean linear scale sqrt(|det A|) of the best parameters' crops over "
+                           f"the first {INSIDE_SEQUENCES} test sequences (1: the whole canvas; "
+                           "NaN: no transform)"}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
                            "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
@@ -218,21 +224,29 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
 INSIDE_SEQUENCES = 500
 
 
-def _inside(spec, params, images) -> float:
-    """Mean fraction of the transform's sampling grid on the canvas
-    (:func:`thesis.chirpz.transforms.inside_fraction`) over the first
-    :data:`INSIDE_SEQUENCES` of ``images`` (NaN for the transform "none"): a diagnostic of
-    runs at chance (a grid that has left the canvas samples zeros)."""
+def _inside(spec, params, images) -> tuple[float, float]:
+    """Diagnostics of runs at chance over the first :data:`INSIDE_SEQUENCES` of ``images``
+    (NaN, NaN for the transform "none"):
+
+    - the mean fraction of the transform's sampling grid on the canvas
+      (:func:`thesis.chirpz.transforms.inside_fraction`): a grid that has left the canvas
+      samples zeros;
+    - the mean linear scale sqrt(|det A|) of the crop's 2 x 2 affine part A (1 = the
+      identity crop, the whole canvas; toward 0 the grid collapses onto a point and the
+      classifier sees a constant image, with no gradient left for the localisation)."""
     import jax.numpy as jnp
 
     from thesis.chirpz.nets import localise
-    from thesis.chirpz.transforms import inside_fraction
+    from thesis.chirpz.transforms import inside_fraction, no_skew_to_affine
 
     if not spec.transform.n_params:
-        return float("nan")
+        return float("nan"), float("nan")
     x = jnp.asarray(images[: min(INSIDE_SEQUENCES, len(images))])
     theta = localise(params, spec, x).reshape(-1, spec.transform.n_params)
-    return float(jnp.mean(inside_fraction(spec.transform, theta, spec.canvas, spec.out_size)))
+    inside = float(jnp.mean(inside_fraction(spec.transform, theta, spec.canvas, spec.out_size)))
+    a = theta.reshape(-1, 2, 3) if spec.transform.n_params == 6 else no_skew_to_affine(theta)
+    det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
+    return inside, float(jnp.mean(jnp.sqrt(jnp.abs(det))))
 
 
 def _stream(model: str, transform: str, d: int) -> str:
