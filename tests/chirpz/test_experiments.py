@@ -234,3 +234,30 @@ def test_training_step_benchmark(tiny):
     only = registry.resolve("ch2/train_step")(dataclasses.replace(run, config=c))
     np.testing.assert_array_equal(only["step_flops"].values, ds["step_flops"].values)
     assert np.isnan(only["seconds"].values).all()
+
+
+@pytest.mark.parametrize("transform", ["bilinear", "bilinear_no_skew", "chirp_z"])
+def test_run_diagnostics_of_the_identity_crop_and_of_a_collapsed_one(transform):
+    """At initialisation (the localisation output is the identity) the crop is the whole
+    canvas: scale 1, every sample on the canvas; a crop shrunk by 10 has scale 0.1."""
+    import jax
+
+    from thesis.chirpz.experiments import _inside, _spec
+    from thesis.chirpz.nets import init_net
+
+    cfg = load_config("smoke")["ch2"]
+    spec = _spec(cfg, "ffn_spn", transform, 3, 84, 3)
+    params = init_net(jax.random.key(0), spec)
+    images = np.random.default_rng(0).random((7, 84, 84)).astype(np.float32)
+    inside, scale = _inside(spec, params, images)
+    assert scale == pytest.approx(1.0, abs=1e-6)
+    assert inside == pytest.approx(1.0, abs=1e-6)
+    b = np.asarray(params["loc_out"]["b"]).copy()
+    if transform == "bilinear":
+        b[[0, 1, 3, 4]] *= 0.1
+    else:
+        b[1] *= 0.1  # (angle, scale, tx, ty)
+    params["loc_out"]["b"] = jax.numpy.asarray(b)
+    assert _inside(spec, params, images)[1] == pytest.approx(0.1, rel=1e-5)
+    none = _spec(cfg, "ffn_spn", "none", 3, 84, 3)
+    assert np.isnan(_inside(none, init_net(jax.random.key(0), none), images)).all()
