@@ -117,7 +117,9 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
 #: rates over the grid (``tests/core/test_regression.py``). Hosts whose training drifts
 #: further (another AVX-512 host: error rates 0.06, training loss 0.16 apart) have their
 #: own references. The best epoch follows the validation curve and is compared exactly: a
-#: flipped best epoch selects other parameters, a changed result.
+#: flipped best epoch selects other parameters, a changed result. The run diagnostics
+#: (inside_fraction, crop_scale) are read from the same trained parameters and take the
+#: same tolerance; the failed flag is compared exactly (a flip is a changed result).
 _COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
@@ -198,11 +200,11 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
             "inside_fraction": (dims, inside, {"units": "1", "long_name":
                                 "mean fraction of the best parameters' sampling grid on the "
                                 f"canvas over the first {INSIDE_SEQUENCES} test sequences "
-                                "(NaN: no transform)"}),
+                                "(NaN: no transform)", **_COUNT_TOLERANCE}),
             "crop_scale": (dims, crop_scale, {"units": "1", "long_name":
                            "mean linear scale sqrt(|det A|) of the best parameters' crops over "
                            f"the first {INSIDE_SEQUENCES} test sequences (1: the whole canvas; "
-                           "NaN: no transform)"}),
+                           "NaN: no transform)", **_COUNT_TOLERANCE}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
                            "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
