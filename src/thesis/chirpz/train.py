@@ -28,6 +28,18 @@ canvas within ~100 steps: bilinear samples outside read zero, the classifier saw
 images and the localisation gradients vanished for good (network at chance). A slower
 localisation network (e.g. 0.1) keeps the grid on the canvas while the classifier
 learns; see ``thesis.chirpz.transforms.inside_fraction``.
+
+Runs at chance (issue 55 item 4). A run of the earlier default recipe that never left 90 %
+(RNN-SPN, no-skew, d = 3, seed 1; 8 filters / 64 units) was rerun update by update: its
+loss stayed at ln 10 from the first update (the classifier never left the uniform
+prediction) while the localisation network still moved the crop, from the identity to a
+translation of -1.6 canvas half-widths and a scale of 1.4 between updates 100 and 200 (the
+sampling grid's fraction on the canvas fell from 0.75 to 0.13-0.18); from then on the
+classifier saw mostly zeros and predicted one class. Adam normalises each parameter's
+update, so the transform parameters move by about (units feeding them) x rate per update
+however small and uninformative their gradient is. Such a run is kept and flagged
+(:attr:`TrainResult.failed`; Tab. 2.2's ``failed``, ``inside_fraction`` and
+``crop_scale``), never dropped or rerun with another seed.
 """
 
 from __future__ import annotations
