@@ -37,8 +37,9 @@ translation of -1.6 canvas half-widths and a scale of 1.4 between updates 100 an
 sampling grid's fraction on the canvas fell from 0.75 to 0.13-0.18); from then on the
 classifier saw mostly zeros and predicted one class. Adam normalises each parameter's
 update, so the transform parameters move by about (units feeding them) x rate per update
-however small and uninformative their gradient is. The same cell and seed under the
-current default recipe (16 filters / 128 units, the hold-then-decay schedule) left ln 10
+however small and uninformative their gradient is. The same cell and seed with 16
+filters / 128 units everywhere and the hold-then-decay schedule (a width of the pilot,
+thesis bench chirpz-widths) left ln 10
 within 150 updates (loss 2.15, then 0.87 at update 850; grid 0.80-0.83 on the canvas): a
 classifier that learns before the crop drifts keeps the localisation gradient informative.
 The other two runs at chance of that grid (FFN-SPN d = 1) were not rerun. A run that
