@@ -48,7 +48,7 @@ update-reference: env
 
 lint: env
 	$(SNAKEMAKE) --lint --config profile=smoke
-	for p in smoke default paper; do $(SNAKEMAKE) -n -q --config profile=$$p || exit 1; done
+	for p in smoke default paper gpu; do $(SNAKEMAKE) -n -q --config profile=$$p || exit 1; done
 
 uv:
 	@command -v uv >/dev/null 2>&1 || python3 -m uv --version >/dev/null 2>&1 || python3 -m pip install --quiet uv

@@ -4,14 +4,14 @@
 #   snakemake ch3 --config profile=smoke          # one chapter
 #   snakemake results/smoke/ch7/ball.nc --config profile=smoke   # one table
 #
-# The profile (smoke | default | paper) selects config/<profile>.yaml; it is validated
+# The profile (smoke | default | paper | gpu) selects config/<profile>.yaml; it is validated
 # against config/schema.yaml before any job runs. Execution settings (cores, executor)
 # live in profiles/default (loaded automatically) and profiles/slurm.
 from snakemake.utils import min_version, validate
 
 min_version("9.0")
 
-PROFILES = ["smoke", "default", "paper"]
+PROFILES = ["smoke", "default", "paper", "gpu"]
 if config.get("profile", "default") not in PROFILES:
     raise ValueError(
         f"config key 'profile' = {config.get('profile')!r} is not allowed; "

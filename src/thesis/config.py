@@ -18,7 +18,7 @@ import yaml
 
 from thesis.errors import ConfigError
 
-PROFILES = ("smoke", "default", "paper")
+PROFILES = ("smoke", "default", "paper", "gpu")
 
 
 def repo_root() -> Path:

@@ -20,6 +20,7 @@ EXPERIMENTS: dict[str, str] = {
     "ch2/table2_2": "thesis.chirpz.experiments:table2_2",
     "ch2/chirpz_scaling": "thesis.chirpz.experiments:chirpz_scaling",
     "ch2/train_step": "thesis.chirpz.train_bench:train_step",
+    "ch2/width_pilot": "thesis.chirpz.width_pilot:width_pilot",
     # ch3: Oncilla gaits and turning
     "ch3/table3_1": "thesis.gaits.experiments:table3_1",
     "ch3/fig3_4": "thesis.gaits.experiments:fig3_4",
@@ -92,6 +93,7 @@ VALIDATIONS: dict[str, tuple[str, ...]] = {
 BENCHMARKS: dict[str, str] = {
     "chirpz": "ch2/chirpz_scaling",
     "chirpz-train": "ch2/train_step",
+    "chirpz-widths": "ch2/width_pilot",
     "physics": "ch7/table7_1",
     "mjx": "ch7/table7_1_peers",
     "field": "physics/sphere_field",
@@ -123,6 +125,10 @@ READS: dict[str, tuple[str, ...]] = {
     "ch2/chirpz_scaling": ("ch2.bench", "ch2.chirpz_output"),
     "ch2/train_step": ("ch2.train_bench", "ch2.chirpz_output", "ch2.ffn_spn", "ch2.rnn_spn",
                        "ch2.train", "ch2.data.canvas", "ch2.data.n_digits"),
+    "ch2/width_pilot": ("ch2.width_pilot", "ch2.train", "ch2.chirpz_output", "ch2.data.canvas",
+                        "ch2.data.n_digits", "ch2.data.n_clutter", "ch2.data.clutter_size",
+                        "ch2.data.max_slope_deg", "ch2.data.mnist_idx",
+                        "ch2.data.idx_valid_pool", "ch2.data.embedded_test_fraction"),
     # ch4: a simulation reruns only when its protocol, swarm or condition changes, not
     # when a table or figure setting does
     "ch4/flat": ("ch4.seeds", "ch4.model", "ch4.tether", "ch4.protocol", "ch4.pso",

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from thesis import registry
+from thesis.chirpz.train import FAILED_ERROR
 from thesis.config import load_config
 from thesis.runctx import RunContext
 
@@ -71,6 +72,17 @@ def test_table2_2_parts_and_join(tiny, model_parts):
         np.testing.assert_array_equal(te[0, 0, 1], te[0, 1, 1])
         n_cz = ds["n_params"].sel(transform="chirp_z")
         assert n_cz.sel(d=2) > n_cz.sel(d=3)
+        # every run is kept and flagged: failed is 1 exactly where the best validation
+        # error reached FAILED_ERROR (12 training sequences: some runs stay at chance)
+        best_valid = ds["valid_error"].min("epoch")
+        np.testing.assert_array_equal(ds["failed"].values, (best_valid >= FAILED_ERROR).values)
+        assert np.isfinite(te).all()
+        inside = ds["inside_fraction"]
+        assert np.isnan(inside.sel(transform="none")).all()
+        assert ((inside.sel(transform="chirp_z") >= 0) & (inside.sel(transform="chirp_z") <= 1)).all()
+        scale = ds["crop_scale"]
+        assert np.isnan(scale.sel(transform="none")).all()
+        assert (scale.sel(transform="chirp_z") > 0).all()
         paths[m] = path
     joined = registry.resolve("ch2/table2_2")(ctx("ch2/table2_2", inputs=paths))
     assert list(joined["model"].values) == ["ffn_spn", "rnn_spn"]
@@ -162,6 +174,27 @@ def test_model_sections_override_train():
     assert cfg["train"]["max_epochs"] != 9  # the shared section is not modified
 
 
+def test_epoch_sequences_by_d_shortens_only_the_listed_d():
+    """A model's epoch_sequences_by_d sets the sequences per epoch of its spatial runs at
+    that d; other d, the other model and "none" (d None) keep train.epoch_sequences."""
+    from thesis.chirpz.experiments import _train_cfg
+    from thesis.config import validate_config
+
+    full = load_config("default")
+    full["ch2"]["ffn_spn"]["epoch_sequences_by_d"] = {"1": 1234}
+    cfg = validate_config(full)["ch2"]
+    shared = cfg["train"]["epoch_sequences"]
+    assert shared != 1234
+    assert _train_cfg(cfg, "ffn_spn", 1)["epoch_sequences"] == 1234
+    assert _train_cfg(cfg, "ffn_spn", 2)["epoch_sequences"] == shared
+    assert _train_cfg(cfg, "ffn_spn")["epoch_sequences"] == shared
+    assert _train_cfg(cfg, "rnn_spn", 1)["epoch_sequences"] == (
+        int(cfg["rnn_spn"]["epoch_sequences_by_d"].get("1", shared)))
+    full["ch2"]["ffn_spn"]["epoch_sequences_by_d"] = {"one": 5}
+    with pytest.raises(Exception, match="epoch_sequences_by_d"):
+        validate_config(full)
+
+
 def test_scaling_benchmark_is_registered():
     """``thesis bench chirpz`` runs the ch2 scaling experiment (its dataset's layout is
     checked on the smoke pipeline's result, tests/pipeline/layouts_ch2.py)."""
@@ -193,3 +226,38 @@ def test_training_step_benchmark(tiny):
     n = ds["n_params"].sel(model="rnn_spn")
     assert n.sel(transform="chirp_z", d=3) > n.sel(transform="chirp_z", d=4)  # larger crops
     assert n.sel(transform="none", d=3) == n.sel(transform="none", d=4)
+    fl = ds["step_flops"].sel(model="rnn_spn")
+    assert fl.sel(transform="chirp_z", d=3) > fl.sel(transform="chirp_z", d=4) > 0
+    assert fl.sel(transform="chirp_z", d=3) > fl.sel(transform="none", d=3)  # + localisation
+    # timed: false counts the same work and times nothing
+    c["train_bench"]["timed"] = False
+    only = registry.resolve("ch2/train_step")(dataclasses.replace(run, config=c))
+    np.testing.assert_array_equal(only["step_flops"].values, ds["step_flops"].values)
+    assert np.isnan(only["seconds"].values).all()
+
+
+@pytest.mark.parametrize("transform", ["bilinear", "bilinear_no_skew", "chirp_z"])
+def test_run_diagnostics_of_the_identity_crop_and_of_a_collapsed_one(transform):
+    """At initialisation (the localisation output is the identity) the crop is the whole
+    canvas: scale 1, every sample on the canvas; a crop shrunk by 10 has scale 0.1."""
+    import jax
+
+    from thesis.chirpz.experiments import _inside, _spec
+    from thesis.chirpz.nets import init_net
+
+    cfg = load_config("smoke")["ch2"]
+    spec = _spec(cfg, "ffn_spn", transform, 3, 84, 3)
+    params = init_net(jax.random.key(0), spec)
+    images = np.random.default_rng(0).random((7, 84, 84)).astype(np.float32)
+    inside, scale = _inside(spec, params, images)
+    assert scale == pytest.approx(1.0, abs=1e-6)
+    assert inside == pytest.approx(1.0, abs=1e-6)
+    b = np.asarray(params["loc_out"]["b"]).copy()
+    if transform == "bilinear":
+        b[[0, 1, 3, 4]] *= 0.1
+    else:
+        b[1] *= 0.1  # (angle, scale, tx, ty)
+    params["loc_out"]["b"] = jax.numpy.asarray(b)
+    assert _inside(spec, params, images)[1] == pytest.approx(0.1, rel=1e-5)
+    none = _spec(cfg, "ffn_spn", "none", 3, 84, 3)
+    assert np.isnan(_inside(none, init_net(jax.random.key(0), none), images)).all()

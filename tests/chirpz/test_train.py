@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from thesis.chirpz.nets import NetSpec, apply_net, init_net
-from thesis.chirpz.train import _PassStream, localisation_labels, make_optimizer, train
+from thesis.chirpz.train import (FAILED_ERROR, _PassStream, learning_rates, localisation_labels,
+                                 make_optimizer, train)
 from thesis.chirpz.transforms import get_transform, inside_fraction
 from thesis.config import load_config
 
@@ -144,3 +145,54 @@ def test_epoch_sequences_of_a_whole_pass_is_the_old_epoch():
     half = _small_run(max_epochs=4, epoch_sequences=12)
     assert len(half.valid_error) == 4
     assert not np.array_equal(half.train_loss[:2], whole.train_loss[:2])
+
+
+def test_step_schedule_is_rstns_epoch_decay():
+    """"step": constant within an epoch, divided by the factor once past lr_decay_start
+    and then whenever more than lr_decay_every epochs have passed since the last cut."""
+    cfg = dict(learning_rate=0.3, max_epochs=7, lr_schedule="step", lr_decay_start=3,
+               lr_decay_every=1, lr_decay_factor=1.5)
+    lr = learning_rates(cfg, 2)
+    assert lr.shape == (14,)
+    per_epoch = lr[::2]
+    np.testing.assert_array_equal(lr[1::2], per_epoch)
+    np.testing.assert_allclose(per_epoch, 0.3 / 1.5 ** np.array([0, 0, 0, 1, 1, 2, 2]))
+
+
+def test_hold_decay_holds_then_decays_to_the_final_fraction():
+    """"hold_decay": the initial rate for the first 1 - decay_fraction of the steps, then
+    a monotone half cosine that ends at final_lr_fraction of it on the last step."""
+    cfg = dict(learning_rate=0.01, max_epochs=4, lr_schedule="hold_decay",
+               decay_fraction=0.25, final_lr_fraction=0.1)
+    lr = learning_rates(cfg, 25)  # 100 steps: 75 held, 25 decaying
+    assert lr.shape == (100,)
+    np.testing.assert_array_equal(lr[:75], 0.01)
+    assert lr[75] == pytest.approx(0.01)
+    assert lr[-1] == pytest.approx(0.001)
+    assert np.all(np.diff(lr[75:]) < 0)
+    # half way through the decay: the cosine's midpoint between 1 and the final fraction
+    assert lr[75 + 12] == pytest.approx(0.01 * (0.1 + 0.9 * 0.5), rel=1e-3)
+    assert learning_rates(dict(cfg, decay_fraction=0.0), 25).tolist() == [0.01] * 100
+
+
+def test_unknown_schedule_is_a_clear_error():
+    with pytest.raises(ValueError, match="lr_schedule 'linear'.*step, hold_decay"):
+        learning_rates(dict(learning_rate=0.1, max_epochs=1, lr_schedule="linear"), 3)
+    with pytest.raises(ValueError, match="decay_fraction"):
+        learning_rates(dict(learning_rate=0.1, max_epochs=1, lr_schedule="hold_decay",
+                            decay_fraction=1.5), 3)
+
+
+def test_training_follows_the_schedule_and_flags_runs_at_chance():
+    """The epochs' recorded rates are the schedule's; a run that learns is not failed, a
+    run whose rate is too small to move the weights stays at chance and is flagged (and
+    still returned, not dropped)."""
+    ok = _small_run(max_epochs=4, lr_schedule="hold_decay", decay_fraction=0.5,
+                    final_lr_fraction=0.1)
+    lr0 = ok.learning_rate[0]
+    np.testing.assert_allclose(ok.learning_rate[:2], lr0)
+    assert ok.learning_rate[3] < ok.learning_rate[2] < lr0
+    assert not ok.failed and ok.valid_error.min() < FAILED_ERROR
+    stuck = _small_run(max_epochs=2, learning_rate=1e-9)
+    assert stuck.failed and stuck.valid_error.min() >= FAILED_ERROR
+    assert np.isfinite(stuck.test_error)

@@ -87,12 +87,12 @@ def res(ch, name, mem_mb, runtime, gpu=False):
     for this profile in workflow/resources.yaml (a name with wildcards, "x_seed{seed}",
     takes the largest over its measured instances), else the rule's declared upper
     estimate ``mem_mb`` [MB] and ``runtime`` [min] (a profile never measured here, e.g.
-    paper). ``gpu``: the job runs on a GPU in the paper profile (one GPU requested through
+    paper). ``gpu``: the job runs on a GPU in the paper and gpu profiles (one GPU requested through
     the SLURM plugin's ``gpu`` resource)."""
     got = _resources.lookup(RESOURCES, PROFILE, f"{ch}/{name}") or dict(
         mem_mb=mem_mb, runtime=runtime
     )
-    if gpu and PROFILE == "paper":
+    if gpu and PROFILE in ("paper", "gpu"):
         got = dict(got, gpu=1)
     return got
 

@@ -117,12 +117,14 @@ def _load(ctx: RunContext) -> tuple[dict, dict]:
 #: rates over the grid (``tests/core/test_regression.py``). Hosts whose training drifts
 #: further (another AVX-512 host: error rates 0.06, training loss 0.16 apart) have their
 #: own references. The best epoch follows the validation curve and is compared exactly: a
-#: flipped best epoch selects other parameters, a changed result.
+#: flipped best epoch selects other parameters, a changed result. The run diagnostics
+#: (inside_fraction, crop_scale) are read from the same trained parameters and take the
+#: same tolerance; the failed flag is compared exactly (a flip is a changed result).
 _COUNT_TOLERANCE = {"regression_atol": 0.03}
 
 
 def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
-    from thesis.chirpz.train import train
+    from thesis.chirpz.train import FAILED_ERROR, train
     from thesis.errors import SimulationDiverged
 
     cfg = ctx.config
@@ -134,6 +136,9 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     max_ep = int(tcfg["max_epochs"])
     shape = (len(ds_), len(trs), len(seeds))
     test = np.full(shape, np.nan)
+    failed = np.zeros(shape, np.int8)
+    inside = np.full(shape, np.nan)
+    crop_scale = np.full(shape, np.nan)
     best_ep = np.full(shape, np.nan)
     secs = np.full(shape, np.nan)
     nparams = np.full(shape[:2], np.nan)
@@ -141,13 +146,14 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     for ti, tname in enumerate(trs):
         for di, d in enumerate(ds_):
             if tname == "none" and di > 0:  # no down-sampling: same network for every d
-                for arr in (test, best_ep, secs):
+                for arr in (test, failed, inside, crop_scale, best_ep, secs):
                     arr[di, ti] = arr[0, ti]
                 nparams[di, ti] = nparams[0, ti]
                 for arr in curves.values():
                     arr[di, ti] = arr[0, ti]
                 continue
             spec = _spec(cfg, model, tname, d, canvas, n_digits)
+            tcfg_d = _train_cfg(cfg, model, d if tname != "none" else None)
             for si, seed in enumerate(seeds):
                 # common random numbers: the streams name the model, d and seed but not
                 # the transform (module docstring)
@@ -158,10 +164,15 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                 def diverged(step, _seed=seed):
                     raise SimulationDiverged(f"ch2/table2_2/{model}", _seed, step, "loss")
 
-                r = train(spec, data, tcfg, key, rng, log=ctx.log, on_nan=diverged)
+                r = train(spec, data, tcfg_d, key, rng, log=ctx.log, on_nan=diverged)
                 ctx.log.info("%s %s d=%d seed %d: test error %.4f (best epoch %d, %.0f s)",
                              model, tname, d, seed, r.test_error, r.best_epoch, r.seconds)
                 test[di, ti, si] = r.test_error
+                # a run that never left chance stays in the table, flagged (never dropped
+                # or rerun with another seed)
+                failed[di, ti, si] = int(r.failed)
+                inside[di, ti, si], crop_scale[di, ti, si] = _inside(spec, r.params,
+                                                                     data["test"][0])
                 best_ep[di, ti, si] = r.best_epoch
                 secs[di, ti, si] = r.seconds
                 nparams[di, ti] = r.n_params
@@ -183,6 +194,17 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
                            "mean training cross-entropy per digit over the epoch"}),
             "learning_rate": (cdims, curves["lr"], {"units": "1", "long_name":
                               "learning rate used in the epoch"}),
+            "failed": (dims, failed, {"units": "1", "long_name":
+                       "1: the run never left chance (best validation error >= "
+                       f"{FAILED_ERROR}); kept in test_error, flagged"}),
+            "inside_fraction": (dims, inside, {"units": "1", "long_name":
+                                "mean fraction of the best parameters' sampling grid on the "
+                                f"canvas over the first {INSIDE_SEQUENCES} test sequences "
+                                "(NaN: no transform)", **_COUNT_TOLERANCE}),
+            "crop_scale": (dims, crop_scale, {"units": "1", "long_name":
+                           "mean linear scale sqrt(|det A|) of the best parameters' crops over "
+                           f"the first {INSIDE_SEQUENCES} test sequences (1: the whole canvas; "
+                           "NaN: no transform)", **_COUNT_TOLERANCE}),
             "best_epoch": (dims, best_ep, {"units": "1", "long_name":
                            "epoch of the lowest validation error (1-based)"}),
             "train_seconds": (dims, secs, {"units": "s", "long_name":
@@ -200,6 +222,35 @@ def _model_part(ctx: RunContext, model: str) -> xr.Dataset:
     return ds
 
 
+#: test sequences over which :func:`_inside` averages (one forward of the localisation)
+INSIDE_SEQUENCES = 500
+
+
+def _inside(spec, params, images) -> tuple[float, float]:
+    """Diagnostics of runs at chance over the first :data:`INSIDE_SEQUENCES` of ``images``
+    (NaN, NaN for the transform "none"):
+
+    - the mean fraction of the transform's sampling grid on the canvas
+      (:func:`thesis.chirpz.transforms.inside_fraction`): a grid that has left the canvas
+      samples zeros;
+    - the mean linear scale sqrt(|det A|) of the crop's 2 x 2 affine part A (1 = the
+      identity crop, the whole canvas; toward 0 the grid collapses onto a point and the
+      classifier sees a constant image, with no gradient left for the localisation)."""
+    import jax.numpy as jnp
+
+    from thesis.chirpz.nets import localise
+    from thesis.chirpz.transforms import inside_fraction, no_skew_to_affine
+
+    if not spec.transform.n_params:
+        return float("nan"), float("nan")
+    x = jnp.asarray(images[: min(INSIDE_SEQUENCES, len(images))])
+    theta = localise(params, spec, x).reshape(-1, spec.transform.n_params)
+    inside = float(jnp.mean(inside_fraction(spec.transform, theta, spec.canvas, spec.out_size)))
+    a = theta.reshape(-1, 2, 3) if spec.transform.n_params == 6 else no_skew_to_affine(theta)
+    det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
+    return inside, float(jnp.mean(jnp.sqrt(jnp.abs(det))))
+
+
 def _stream(model: str, transform: str, d: int) -> str:
     """Name of the random streams (initialisation and dropout key, shuffling) of one cell.
 
@@ -213,11 +264,17 @@ def _stream(model: str, transform: str, d: int) -> str:
 MODEL_TRAIN_KEYS = {"loc_lr_scale": float, "max_epochs": int}
 
 
-def _train_cfg(cfg: dict, model: str) -> dict:
+def _train_cfg(cfg: dict, model: str, d: int | None = None) -> dict:
     """The ``ch2.train`` section with the model's own ``loc_lr_scale`` and ``max_epochs``
-    where its section sets them (null or absent = the shared value)."""
+    where its section sets them (null or absent = the shared value), and for a
+    down-sampling factor ``d`` listed in the model's ``epoch_sequences_by_d`` that many
+    sequences per epoch (a shorter or longer run of the same number of epochs; ``d`` None,
+    e.g. the transform "none", which does not down-sample: the shared value)."""
     own = {k: cast(cfg[model][k]) for k, cast in MODEL_TRAIN_KEYS.items()
            if cfg[model].get(k) is not None}
+    by_d = cfg[model].get("epoch_sequences_by_d") or {}
+    if d is not None and str(int(d)) in by_d:
+        own["epoch_sequences"] = int(by_d[str(int(d))])
     return {**cfg["train"], **own}
 
 
@@ -242,6 +299,10 @@ def _size_attrs(cfg: dict, meta: dict, model: str | None = None) -> dict:
         "batch_size": int(cfg["train"]["batch_size"]),
         # training sequences per epoch; 0: the whole training split (thesis.chirpz.train)
         "epoch_sequences": int(cfg["train"].get("epoch_sequences") or 0),
+        # per model, the d whose runs take another number of sequences per epoch
+        "epoch_sequences_by_d": json.dumps(
+            {m: cfg[m].get("epoch_sequences_by_d") or {} for m in ([model] if model else MODELS)},
+            sort_keys=True),
         "optimizer": str(cfg["train"]["optimizer"]),
         "learning_rate": float(cfg["train"]["learning_rate"]),
         "loc_lr_scale": _per_model(cfg, [model] if model else MODELS, "loc_lr_scale", 1.0),

@@ -2,9 +2,13 @@
 
 As [RSTN]: mini-batches of ``batch_size`` (100); RMSprop (ρ = 0.9, ε = 1e-6, Lasagne's
 defaults) with learning rate 5e-4, or Adam; gradients clipped per element to
-[-clip_value, clip_value] and then to total norm ``clip_norm``; the learning rate is
-divided by ``lr_decay_factor`` every ``lr_decay_every`` epochs once past
-``lr_decay_start`` epochs; early stopping when the validation error has not improved for
+[-clip_value, clip_value] and then to total norm ``clip_norm``; the learning rate
+follows ``lr_schedule`` (:func:`learning_rates`): "step" ([RSTN]) divides it by
+``lr_decay_factor`` every ``lr_decay_every`` epochs once past ``lr_decay_start`` epochs;
+"hold_decay" holds it for the first ``1 - decay_fraction`` of the run's steps
+(``max_epochs`` epochs) and then decays it along a half cosine to ``final_lr_fraction``
+of its value at the last step, a schedule that fits a run of a few epochs (a step decay
+from epoch 3 of 5 cuts the rate while every curve is still falling); early stopping when the validation error has not improved for
 ``patience`` epochs (at most ``max_epochs``); the parameters of the best validation epoch
 are evaluated on the test set. Cost: mean cross-entropy over the digits of a sequence
 (log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
@@ -24,6 +28,26 @@ canvas within ~100 steps: bilinear samples outside read zero, the classifier saw
 images and the localisation gradients vanished for good (network at chance). A slower
 localisation network (e.g. 0.1) keeps the grid on the canvas while the classifier
 learns; see ``thesis.chirpz.transforms.inside_fraction``.
+
+Runs at chance (issue 55 item 4). A run of the earlier default recipe that never left 90 %
+(RNN-SPN, no-skew, d = 3, seed 1; 8 filters / 64 units) was rerun update by update: its
+loss stayed at ln 10 from the first update (the classifier never left the uniform
+prediction) while the localisation network still moved the crop, from the identity to a
+translation of -1.6 canvas half-widths and a scale of 1.4 between updates 100 and 200 (the
+sampling grid's fraction on the canvas fell from 0.75 to 0.13-0.18); from then on the
+classifier saw mostly zeros and predicted one class. Adam normalises each parameter's
+update, so the transform parameters move by about (units feeding them) x rate per update
+however small and uninformative their gradient is. The same cell and seed with 16
+filters / 128 units everywhere and the hold-then-decay schedule (a width of the pilot,
+thesis bench chirpz-widths) left ln 10
+within 150 updates (loss 2.15, then 0.87 at update 850; grid 0.80-0.83 on the canvas): a
+classifier that learns before the crop drifts keeps the localisation gradient informative.
+So did the default's widths (localisation 8 filters / 64 units, classifier 32 / 256):
+loss 2.03 at update 150, 0.75 at update 550, grid 0.75-0.83 on the canvas.
+The other two runs at chance of that grid (FFN-SPN d = 1) were not rerun. A run that
+still fails is kept and flagged
+(:attr:`TrainResult.failed`; Tab. 2.2's ``failed``, ``inside_fraction`` and
+``crop_scale`` say which and why), never dropped or rerun with another seed.
 """
 
 from __future__ import annotations
@@ -41,7 +65,19 @@ from thesis.chirpz.nets import NetSpec, apply_net, init_net
 from thesis.physics.perturbation import perturb_tree
 
 __all__ = ["TrainResult", "train", "per_digit_error", "make_optimizer", "optimizer_settings",
-           "localisation_labels"]
+           "localisation_labels", "learning_rates", "SCHEDULES", "CHANCE_ERROR",
+           "FAILED_ERROR"]
+
+#: learning-rate schedules of ``ch2.train.lr_schedule`` (:func:`learning_rates`)
+SCHEDULES = ("step", "hold_decay")
+
+#: per-digit error of a uniform (or label-frequency) prediction of 10 classes
+CHANCE_ERROR = 0.9
+
+#: a run whose best validation error is at or above this did not learn (``failed``): a
+#: network that reads one of three digits right and guesses the others stays below it
+#: (1/3 x 0 + 2/3 x 0.9 = 0.6), so it marks runs that never left chance, not slow ones
+FAILED_ERROR = 0.8
 
 #: top-level parameter groups of the localisation network (thesis.chirpz.nets)
 LOC_GROUPS = ("loc_conv", "loc_dense", "loc_out")
@@ -57,6 +93,8 @@ class TrainResult:
         train_loss: (epochs_run,) mean training cross-entropy of each epoch [nats].
         learning_rate: (epochs_run,) learning rate used in each epoch.
         best_epoch: 1-based epoch of the best validation error.
+        failed: the best validation error is at or above :data:`FAILED_ERROR` (the run
+            never left chance); such a run is kept and reported, never dropped.
         n_params: number of trainable parameters.
         seconds: wall time of the run [s] (compilation included).
         params: best parameters.
@@ -67,6 +105,7 @@ class TrainResult:
     train_loss: np.ndarray
     learning_rate: np.ndarray
     best_epoch: int
+    failed: bool
     n_params: int
     seconds: float
     params: dict
@@ -105,6 +144,52 @@ def make_optimizer(cfg: dict):
         if warmup else optax.identity()
     return optax.chain(optax.clip(cfg["clip_value"]), optax.clip_by_global_norm(cfg["clip_norm"]),
                        opt, loc_scale, ramp)
+
+
+def learning_rates(cfg: dict, steps_per_epoch: int) -> np.ndarray:
+    """Learning rate of every update of a run of ``cfg["max_epochs"]`` epochs (§2.5).
+
+    Args:
+        cfg: the ``ch2.train`` section: ``learning_rate``, ``max_epochs``, ``lr_schedule``
+            (:data:`SCHEDULES`, default "step") and its keys (module docstring).
+        steps_per_epoch: updates per epoch.
+
+    Returns:
+        (max_epochs * steps_per_epoch,) float64: "step" is constant within an epoch and
+        divided by ``lr_decay_factor`` at the start of epoch e whenever e >
+        ``lr_decay_start`` and e - (epoch of the last decay) > ``lr_decay_every``
+        ([RSTN]); "hold_decay" is ``learning_rate`` for the first
+        round((1 - decay_fraction) x steps) updates, then a half cosine
+        (``optax.cosine_decay_schedule``) that reaches ``final_lr_fraction`` x
+        ``learning_rate`` at the last update. The warm-up (``warmup_steps``) is applied
+        on top by the optimiser (:func:`make_optimizer`).
+    """
+    lr0, epochs = float(cfg["learning_rate"]), int(cfg["max_epochs"])
+    n = epochs * int(steps_per_epoch)
+    kind = cfg.get("lr_schedule", "step")
+    if kind == "step":
+        per_epoch, lr, last = [], lr0, 0
+        for epoch in range(1, epochs + 1):
+            if epoch > cfg["lr_decay_start"] and epoch - last > cfg["lr_decay_every"]:
+                lr /= float(cfg["lr_decay_factor"])
+                last = epoch
+            per_epoch.append(lr)
+        return np.repeat(np.asarray(per_epoch, np.float64), int(steps_per_epoch))
+    if kind == "hold_decay":
+        frac = float(cfg.get("decay_fraction", 0.3))
+        final = float(cfg.get("final_lr_fraction", 0.05))
+        if not 0.0 <= frac <= 1.0 or not 0.0 <= final <= 1.0:
+            raise ValueError(f"ch2.train: decay_fraction {frac} and final_lr_fraction {final} "
+                             "must lie in [0, 1]")
+        n_decay = int(round(frac * n))
+        hold = np.full(n - n_decay, lr0)
+        if n_decay <= 1:
+            return np.concatenate([hold, np.full(n_decay, lr0 * final)])
+        cosine = optax.cosine_decay_schedule(lr0, n_decay - 1, alpha=final)
+        with jax.numpy_dtype_promotion("standard"):  # optax mixes int counts and floats
+            decay = np.asarray(jax.device_get(cosine(jnp.arange(n_decay))), np.float64)
+        return np.concatenate([hold, decay])
+    raise ValueError(f"ch2.train.lr_schedule {kind!r}: allowed {', '.join(SCHEDULES)}")
 
 
 def _loss(params, spec, x, y, key):
@@ -191,27 +276,24 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     epoch_seq = cfg.get("epoch_sequences")
     passes = None if epoch_seq is None else _PassStream(rng, len(xtr))
     n_batches = max((len(xtr) if epoch_seq is None else int(epoch_seq)) // bs, 1)
-    lr = float(cfg["learning_rate"])
-    last_decay = 0
+    schedule = learning_rates(cfg, n_batches)
     best, best_epoch, best_params = np.inf, 0, params
     valid_err, train_loss, lrs = [], [], []
     step = 0
     for epoch in range(1, int(cfg["max_epochs"]) + 1):
-        if epoch > cfg["lr_decay_start"] and epoch - last_decay > cfg["lr_decay_every"]:
-            lr /= float(cfg["lr_decay_factor"])
-            last_decay = epoch
-        opt_state[2].hyperparams["learning_rate"] = jnp.asarray(lr, jnp.float32)
         # a whole pass per epoch (as before epoch_sequences existed), or the next part of
         # the stream of passes
         order = rng.permutation(len(xtr)) if passes is None else passes.take(n_batches * bs)
         losses = []
         for b in range(n_batches):
+            opt_state[2].hyperparams["learning_rate"] = jnp.asarray(schedule[step], jnp.float32)
             idx = np.sort(order[b * bs : (b + 1) * bs])
             params, opt_state, loss = train_step(
                 params, opt_state, jnp.asarray(xtr[idx]), jnp.asarray(ytr[idx]),
                 jax.random.fold_in(k_drop, step))
             step += 1
             losses.append(loss)
+        lr = float(schedule[step - n_batches : step].mean())
         losses = np.asarray(jax.device_get(losses), np.float64)
         if not np.all(np.isfinite(losses)):
             bad = step - n_batches + int(np.argmax(~np.isfinite(losses)))
@@ -221,7 +303,7 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
         ve = per_digit_error(errors, params, *data["valid"], bs)
         valid_err.append(ve)
         train_loss.append(float(losses.mean()))
-        lrs.append(lr)
+        lrs.append(lr)  # the epoch's mean learning rate
         if log is not None:
             log.info("%s/%s d=%d epoch %d: loss %.4f valid error %.4f (lr %.2e)", spec.model,
                      spec.transform.name, spec.d, epoch, train_loss[-1], ve, lr)
@@ -231,4 +313,5 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
             break
     test = per_digit_error(errors, best_params, *data["test"], bs)
     return TrainResult(test, np.asarray(valid_err), np.asarray(train_loss), np.asarray(lrs),
-                       best_epoch, n_params, time.perf_counter() - t0, best_params)
+                       best_epoch, bool(best >= FAILED_ERROR), n_params,
+                       time.perf_counter() - t0, best_params)

@@ -26,6 +26,11 @@ Workload: the profile's widths (``ch2.ffn_spn``, ``ch2.rnn_spn``), its optimiser
 :func:`thesis.chirpz.nets.init_net` draws them with the transform parameters moved off the
 identity (a random localisation output layer), training mode (dropout as configured).
 
+Work: ``step_flops`` is XLA's count of the floating-point operations of the lowered
+training step (:func:`step_flops`; shapes only), the same on every device; with
+``ch2.train_bench.timed`` false only it is computed (seconds NaN), which is how the work
+of the Tab. 2.1 networks is counted on a machine too slow to time them (config/gpu.yaml).
+
 Timing: every function of a cell is compiled and run once untimed, then the functions run
 in turn ``repeats`` times (interleaved, so that load from other processes falls on all of
 them alike), each call ended by ``block_until_ready``; the median is reported. Wall time
@@ -116,6 +121,28 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
     return fns, n_params
 
 
+def step_flops(spec, tcfg: dict, batch: int) -> float:
+    """Floating-point operations of one training step of ``spec`` on ``batch`` sequences,
+    as XLA's cost analysis of the lowered step counts them (forward, backward and update;
+    shapes only, nothing is computed). A device-independent measure of the work of a step,
+    from which the time on another device is estimated (``thesis.chirpz.train_bench``)."""
+    import jax
+    import jax.numpy as jnp
+
+    from thesis.chirpz import nets
+    from thesis.chirpz.train import _make_steps, optimizer_settings
+
+    optimizer, train_step, _ = _make_steps(spec, optimizer_settings(tcfg))
+    key = jax.random.key(0)
+    params = jax.eval_shape(lambda k: nets.init_net(k, spec), key)
+    opt_state = jax.eval_shape(optimizer.init, params)
+    x = jax.ShapeDtypeStruct((batch, spec.canvas, spec.canvas), jnp.float32)
+    y = jax.ShapeDtypeStruct((batch, spec.n_digits), jnp.int32)
+    cost = train_step.lower(params, opt_state, x, y, key).cost_analysis()
+    cost = cost[0] if isinstance(cost, (list, tuple)) else cost
+    return float(cost["flops"])
+
+
 def _time_cell(fns: dict, repeats: int) -> tuple[np.ndarray, np.ndarray]:
     """Wall and CPU seconds (len(PARTS), repeats) of the cell's functions (0 where absent)."""
     import jax
@@ -157,6 +184,8 @@ def train_step(ctx: RunContext) -> xr.Dataset:
     wall = np.full(shape, np.nan)
     cpu = np.full(shape, np.nan)
     nparams = np.full(shape[:3], np.nan)
+    flops = np.full(shape[:3], np.nan)
+    timed = bool(bcfg.get("timed", True))
     for mi, model in enumerate(models):
         tcfg = _train_cfg(cfg, model)
         for ti, tname in enumerate(trs):
@@ -164,14 +193,21 @@ def train_step(ctx: RunContext) -> xr.Dataset:
                 if tname == "none" and di > 0:  # no down-sampling: the same network for every d
                     wall[mi, ti, di], cpu[mi, ti, di] = wall[mi, ti, 0], cpu[mi, ti, 0]
                     nparams[mi, ti, di] = nparams[mi, ti, 0]
+                    flops[mi, ti, di] = flops[mi, ti, 0]
                     continue
                 rng = seeding.rng(ctx.root_seed, f"ch2/train_step/{model}/d={d}")
                 spec = _spec(cfg, model, tname, d, canvas, n_digits)
+                flops[mi, ti, di] = step_flops(spec, tcfg, batch)
+                if not timed:  # the work of a step only (train_bench.timed)
+                    ctx.log.info("%s %s d=%d: %.3g FLOP per step", model, tname, d,
+                                 flops[mi, ti, di])
+                    continue
                 fns, nparams[mi, ti, di] = _cell_functions(spec, tcfg, batch, rng)
                 wall[mi, ti, di], cpu[mi, ti, di] = _time_cell(fns, repeats)
                 med = np.median(wall[mi, ti, di], axis=-1) * 1e3
-                ctx.log.info("%s %s d=%d: " + ", ".join(f"{p} %.1f ms" for p in PARTS),
-                             model, tname, d, *med)
+                ctx.log.info("%s %s d=%d: %.3g FLOP per step; " +
+                             ", ".join(f"{p} %.1f ms" for p in PARTS),
+                             model, tname, d, flops[mi, ti, di], *med)
     dims = ("model", "transform", "d", "part")
     what = f"a batch of {batch} sequences"
     ds = xr.Dataset(
@@ -185,7 +221,10 @@ def train_step(ctx: RunContext) -> xr.Dataset:
             "seconds_runs": (dims + ("repeat",), wall, {"units": "s", "long_name":
                              "wall time of every timed call", **WALL_CLOCK}),
             "n_params": (("model", "transform", "d"), nparams, {"units": "1", "long_name":
-                         "number of trainable parameters"}),
+                         "number of trainable parameters (NaN: not timed)"}),
+            "step_flops": (("model", "transform", "d"), flops, {"units": "1", "long_name":
+                           f"floating-point operations of one training step on {what} "
+                           "(XLA cost analysis of the lowered step)"}),
         },
         coords={"model": models, "transform": trs, "d": ds_, "part": list(PARTS),
                 "repeat": np.arange(repeats)},
