@@ -10,9 +10,8 @@
 # RNN-SPN jobs first, `priority`) instead of one FFN-SPN and one RNN-SPN job that end far
 # apart, spread over a cluster's nodes (profiles/slurm), and adding a seed reruns only that
 # seed (a part's params leave `ch2.seeds` out; its seed is in its path). The default
-# profile's epochs per model are chosen so that its FFN-SPN and RNN-SPN jobs take about the
-# same time (26 and 28 min from the benchmarked step times; config/default.yaml), three per
-# core.
+# profile's updates per model are chosen so that its FFN-SPN and RNN-SPN jobs take about the
+# same time (the budget arithmetic is in config/default.yaml's ch2 comment), three per core.
 
 from thesis.chirpz.data import training_memory_mb
 from thesis.chirpz.experiments import MODELS as CH2_MODELS
