@@ -280,8 +280,9 @@ def _jsonable(a) -> list | float | str:
         return a.astype(str).tolist()
     if a.dtype.kind == "M":
         return a.astype(str).tolist()
-    return np.where(np.isfinite(a.astype(float)), a.astype(float), np.nan).tolist() \
-        if a.dtype.kind in "fc" else a.tolist()
+    # infinities are kept (JSON's Infinity, as Python's json writes and reads it): a result
+    # whose value is inf (e.g. a speed change from zero) must not compare against NaN
+    return a.astype(float).tolist() if a.dtype.kind in "fc" else a.tolist()
 
 
 def to_reference(ds: xr.Dataset, twins: dict[str, xr.Dataset] | None = None,

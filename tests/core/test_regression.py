@@ -368,3 +368,15 @@ def test_a_censored_mean_on_one_side_counts_the_quantitys_largest_magnitude():
     assert regression.compare(ds([[20.0, np.nan]]), ref) == []
     ref["variables"]["n"]["chaos"]["atol"] = 50.0  # a tolerance below the flip's size
     assert regression.compare(ds([[20.0, np.nan]]), ref) != []
+
+
+def test_infinite_values_survive_the_reference():
+    """A value that is inf in the result (a ratio to zero) is inf in the reference too, so
+    the result compares equal to it, and a finite value in its place differs."""
+    def ds(v):
+        return xr.Dataset({"r": xr.DataArray(np.asarray(v, float), dims="case",
+                                             attrs={"units": "1", "long_name": "ratio"})})
+    ref = json.loads(json.dumps(regression.to_reference(ds([1.0, np.inf, np.nan]))))
+    assert ref["variables"]["r"]["values"][1] == np.inf
+    assert regression.compare(ds([1.0, np.inf, np.nan]), ref) == []
+    assert regression.compare(ds([1.0, 5.0, np.nan]), ref) != []
