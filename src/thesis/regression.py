@@ -108,19 +108,25 @@ def chaos_tolerance(values, twin, n_over: int, z: float = CHAOS_Z) -> float:
     a, b = np.asarray(values), np.asarray(twin)
     if a.shape != b.shape:
         raise ValueError(f"twin shape {b.shape} != {a.shape}")
-    if _is_text(a) or _is_text(b):
-        sq = (a.astype(str) != b.astype(str)).astype(float)
-    else:
-        a, b = a.astype(float), b.astype(float)
-        both = np.isfinite(a) & np.isfinite(b)
-        sq = np.where(both, (a - b) ** 2, np.where(np.isfinite(a) == np.isfinite(b), 0.0,
-                                                   np.nan))
+    sq = _squared_differences(a, b)
     d2 = float(np.nanmean(sq)) if np.isfinite(sq).any() else 0.0
     if not np.isfinite(sq).all():
         # a value finite in one twin and NaN in the other: the quantity's own spread
-        spread = np.nanmax(np.abs(np.concatenate([a.ravel(), b.ravel()]))) if a.size else 0
+        ab = np.concatenate([a.ravel(), b.ravel()]).astype(float)
+        spread = np.nanmax(np.abs(ab)) if a.size else 0
         d2 = max(d2, float(spread) ** 2 * float(np.mean(~np.isfinite(sq))))
-    return max(DEFAULT_ATOL, z * float(np.sqrt(d2 / max(int(n_over), 1))))
+    return chaos_tolerance_from_rms(np.sqrt(d2), n_over, z)
+
+
+def _squared_differences(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Per-element squared difference of a variable and its twin: labels 1 where they
+    differ; numbers (a - b)^2 where both are finite, 0 where neither is, NaN where exactly
+    one is (each caller prices such a flip by the quantity's magnitude)."""
+    if _is_text(a) or _is_text(b):
+        return (a.astype(str) != b.astype(str)).astype(float)
+    a, b = a.astype(float), b.astype(float)
+    fa, fb = np.isfinite(a), np.isfinite(b)
+    return np.where(fa & fb, (a - b) ** 2, np.where(fa == fb, 0.0, np.nan))
 
 
 def _means_over(values, dims: list[str], over: str, labels: list[str]) -> np.ndarray:
@@ -214,14 +220,11 @@ def _twin_rms(a: np.ndarray, b: np.ndarray, axis: int | None = None) -> float:
     there); ``axis=None``: pooled over every element, which bounds the move of the mean
     over all elements. Labels count 1 where they differ; a value finite in one and not in
     the other counts the quantity's largest magnitude (as :func:`chaos_tolerance`)."""
-    if _is_text(a) or _is_text(b):
-        sq = (a.astype(str) != b.astype(str)).astype(float)
-    else:
+    sq = _squared_differences(a, b)
+    if np.isnan(sq).any():  # a flip finite <-> not: the largest finite magnitude
         a, b = a.astype(float), b.astype(float)
-        fa, fb = np.isfinite(a), np.isfinite(b)
-        big = np.nanmax(np.abs(np.where(fa | fb, np.where(fa, a, b), np.nan))) \
-            if (fa | fb).any() else 0.0
-        sq = np.where(fa & fb, (a - b) ** 2, np.where(fa == fb, 0.0, big ** 2))
+        big = np.nanmax(np.abs(np.where(np.isfinite(a), a, b)[np.isfinite(a) | np.isfinite(b)]))
+        sq = np.where(np.isnan(sq), big ** 2, sq)
     if sq.size == 0:
         return 0.0
     d2 = float(np.mean(sq)) if axis is None else float(np.max(np.mean(sq, axis=axis)))
