@@ -447,19 +447,12 @@ def extends_to_walk(results: Results) -> Verdict:
     if min(nw, nc) < stats.MIN_SEEDS:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     rates = f"{kw} of {nw} seeds walk with the larger settings, {kc} of {nc} with the trot's"
-    if v.status == "not_reproduced":
-        return Verdict("not_reproduced", measured, statistic,
-                       f"no seed walks with the larger settings ({rates})")
-    if p_less <= stats.ONE_SIDED:
-        return Verdict("not_reproduced", measured, statistic,
-                       f"the trot's settings walk more often ({rates}, p = {p_less:.3g})")
-    if p_more <= stats.ONE_SIDED:
-        return Verdict("reproduced", measured, statistic,
-                       f"a walk exists and the larger settings make it more often ({rates}, "
-                       f"p = {p_more:.3g})")
-    return Verdict("inconclusive", measured, statistic,
-                   f"a walk exists, but the larger settings are not shown to be needed "
-                   f"({rates}, p = {p_more:.3g})")
+    return _exists_and_contrast(
+        v.status, p_more, p_less, measured, statistic, rates,
+        absent="no seed walks with the larger settings",
+        against="the trot's settings walk more often",
+        both="a walk exists and the larger settings make it more often",
+        neither="a walk exists, but the larger settings are not shown to be needed")
 
 
 def _minimal_signals(results: Results, key: str, coord: str):
@@ -634,21 +627,32 @@ def linear_feedback_insufficient(results: Results) -> Verdict:
         return Verdict("inconclusive", measured, statistic, "fewer than 3 seeds")
     rates = (f"linear feedback succeeds in {kl} of {nl} seeds, the trot controller in "
              f"{kt} of {nt}")
-    if fails.status == "not_reproduced":
+    return _exists_and_contrast(
+        fails.status, p_less, p_more, measured, statistic, rates,
+        absent="every seed of linear feedback succeeds",
+        against="linear feedback succeeds more often than the trot controller",
+        both="linear feedback fails in some seeds and succeeds less often than the trot "
+             "controller",
+        neither="linear feedback fails in some seeds but is not shown to do worse than "
+                "the trot controller: nothing under this protocol contrasts it")
+
+
+def _exists_and_contrast(exists: str, p_for: float, p_against: float, measured: dict,
+                         statistic: str, rates: str, *, absent: str, against: str,
+                         both: str, neither: str) -> Verdict:
+    """The verdict of "X happens, and more often than under Y": not reproduced when the
+    existence check (``exists``, a status) says X never happens or when the one-sided
+    contrast goes against it (``p_against``); reproduced when X exists and the contrast
+    supports it (``p_for``), both at :data:`thesis.claims.stats.ONE_SIDED`; else
+    inconclusive. The four phrases say which, ahead of ``rates``."""
+    if exists == "not_reproduced":
+        return Verdict("not_reproduced", measured, statistic, f"{absent} ({rates})")
+    if p_against <= stats.ONE_SIDED:
         return Verdict("not_reproduced", measured, statistic,
-                       f"every seed of linear feedback succeeds ({rates})")
-    if p_more <= stats.ONE_SIDED:
-        return Verdict("not_reproduced", measured, statistic,
-                       f"linear feedback succeeds more often than the trot controller "
-                       f"({rates}, p = {p_more:.3g})")
-    if p_less <= stats.ONE_SIDED:
-        return Verdict("reproduced", measured, statistic,
-                       f"linear feedback fails in some seeds and succeeds less often than "
-                       f"the trot controller ({rates}, p = {p_less:.3g})")
-    return Verdict("inconclusive", measured, statistic,
-                   f"linear feedback fails in some seeds but is not shown to do worse than "
-                   f"the trot controller: nothing under this protocol contrasts it ({rates}, "
-                   f"p = {p_less:.3g})")
+                       f"{against} ({rates}, p = {p_against:.3g})")
+    if p_for <= stats.ONE_SIDED:
+        return Verdict("reproduced", measured, statistic, f"{both} ({rates}, p = {p_for:.3g})")
+    return Verdict("inconclusive", measured, statistic, f"{neither} ({rates}, p = {p_for:.3g})")
 
 
 def mse_drops_rapidly(results: Results) -> Verdict:
