@@ -253,16 +253,20 @@ def _cmd_report(args) -> int:
     outdir = Path(args.outdir or Path("reports") / args.profile)
     # a damaged result is set aside: everything else is rendered, the page names it
     scanned = store.scan_results(args.profile, args.results)
+    aside: dict = {}  # readable results lacking a variable the report reads
     if args.figures:
         render.render_figures(args.figures, args.profile, outdir, config=config,
-                              results_root=Path(args.results), scanned=scanned)
+                              results_root=Path(args.results), scanned=scanned,
+                              set_aside=aside)
         bad = [e for k, e in scanned[1].items() if k.startswith(args.figures + "/")]
         done = f"the chapter's other figures rendered -> {outdir / 'figures' / args.figures}"
     else:
         index = render.render_report(args.profile, outdir, config=config,
-                                     results_root=Path(args.results), scanned=scanned)
+                                     results_root=Path(args.results), scanned=scanned,
+                                     set_aside=aside)
         bad = render.damaged_files(args.profile, Path(args.results), scanned[1])
         done = f"everything else rendered -> {index}"
+    bad = bad + [e for e in aside.values() if e.path not in {b.path for b in bad}]
     if bad:
         print(f"thesis: {_damaged_summary(bad)}; {done}", file=sys.stderr)
         return EXIT_DAMAGED

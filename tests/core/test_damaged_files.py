@@ -365,3 +365,55 @@ def test_report_figures_of_the_damaged_chapter_exit_nonzero_the_others_not(tmp_p
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "ch3/fig3_4.nc (truncated" in err
     assert (out / "figures" / "ch3" / "manifest.json").exists()
+
+
+def test_report_sets_aside_a_readable_result_lacking_a_variable_its_tables_read(
+        tmp_path, capsys):
+    """A result that opens but lacks a variable a chapter's tables read (written by other
+    code, or cut short) is set aside like a damaged file: named with the variable and its
+    remaking command at the top of the page, its chapter rendered without it, every other
+    chapter as with the intact file, exit non-zero. Another KeyError of the report's code
+    is not hidden."""
+    results, out = tmp_path / "results", tmp_path / "reports"
+    paths = _results(results)
+    _check(results, capsys)
+    args = ["report", "--profile", "smoke", "--results", str(results), "--outdir", str(out)]
+    assert cli.main(args) == 0
+    intact = (out / "summary.md").read_text()
+    path = paths["ch7/table7_1"]
+    ds = xr.load_dataset(path)
+    assert "seconds" in ds and len(ds.data_vars) > 1
+    cut = ds.drop_vars("seconds")
+    path.unlink()
+    cut.to_netcdf(path, engine="h5netcdf")
+    from thesis.report.chapters import CHAPTERS
+    from thesis.report.chapters import ch7 as report_ch7
+
+    real = report_ch7.tables
+
+    def reads_seconds(res):  # the chapter's tables, reading the variable as a table does
+        if "ch7/table7_1" in res:
+            res["ch7/table7_1"]["seconds"]
+        return real(res)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(report_ch7, "tables", reads_seconds)
+        rc = cli.main(args)
+        err = capsys.readouterr().err.strip()
+        assert rc == cli.EXIT_DAMAGED
+        assert "\n" not in err and str(path) in err and "lacks the variable 'seconds'" in err
+        assert "snakemake results/smoke/ch7/table7_1.nc" in err
+        page = (out / "index.html").read_text()
+        summary = (out / "summary.md").read_text()
+        assert page.index('id="damaged"') < page.index('<h2 id="ch2">')
+        assert "lacks the variable" in summary.split("\n## ")[0]
+        assert _section(summary, CHAPTERS["ch3"]) == _section(intact, CHAPTERS["ch3"])
+
+        def broken(res):  # a defect of the report's code: no result lacks 'nowhere'
+            raise KeyError("No variable named 'nowhere'. Variables on the dataset include []")
+
+        mp.setattr(report_ch7, "tables", broken)
+        rc = cli.main(args)
+        err = capsys.readouterr().err
+        assert rc not in (0, cli.EXIT_DAMAGED) and "nowhere" in err and "lacks" not in err
+    _no_temporaries(tmp_path)

@@ -21,6 +21,7 @@ import dataclasses
 import html
 import importlib
 import json
+import re
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -69,10 +70,13 @@ def _chapter_results(results: dict, ch: str) -> dict:
 
 def render_figures(ch: str, profile: str, outdir: Path, *, config: dict | None = None,
                    results_root: Path = store.RESULTS_DIR,
-                   scanned: tuple[dict, dict] | None = None) -> list[Figure]:
+                   scanned: tuple[dict, dict] | None = None,
+                   set_aside: dict[str, DamagedFileError] | None = None) -> list[Figure]:
     """Render chapter ``ch``'s figures into ``outdir/figures/<ch>/`` and its manifest.
     ``scanned``: the profile's results as :func:`thesis.store.scan_results` read them
-    (default: read here); a damaged file is left out, as if not run."""
+    (default: read here); a damaged file is left out, as if not run. A readable result
+    that lacks a variable the figures read is left out too and added to ``set_aside``
+    (:func:`lacking_variable`)."""
     figdir = Path(outdir) / "figures" / ch
     figdir.mkdir(parents=True, exist_ok=True)
     scanned = scanned or store.scan_results(profile, results_root)
@@ -87,7 +91,8 @@ def render_figures(ch: str, profile: str, outdir: Path, *, config: dict | None =
 
         dpi = (config or {}).get("report", {}).get("figure_dpi", 110)
         with plt.rc_context({"savefig.dpi": dpi, "figure.dpi": dpi}):
-            figs = list(mod.figures(results, figdir))
+            figs = _reading(lambda r: list(mod.figures(r, figdir)), results, profile,
+                            results_root, set_aside)
     manifest = [{"id": f.id, "title": f.title, "thesis_ref": f.thesis_ref,
                  "path": Path(f.path).name, "note": f.note} for f in figs]
     with store.atomic_path(figdir / "manifest.json") as tmp:
@@ -108,12 +113,60 @@ def _load_manifest(outdir: Path, ch: str) -> list[Figure]:
     return out
 
 
-def build_sections(results: dict, outdir: Path) -> list[Section]:
-    """One :class:`Section` per chapter, with its tables and rendered figures."""
+#: xarray's message for a variable a dataset does not hold (``ds["name"]``).
+_NO_VARIABLE = re.compile(r"No variable named '([^']+)'")
+
+
+def lacking_variable(err: KeyError, results: dict) -> tuple[str, list[str]] | None:
+    """(variable, keys of ``results`` that lack it) when ``err`` is xarray's "no variable
+    named" for a variable some of ``results`` lack (a readable result written by other
+    code, or cut short); None for any other KeyError (a defect of the report's code)."""
+    m = _NO_VARIABLE.search(str(err.args[0]) if err.args else "")
+    if m is None:
+        return None
+    name = m.group(1)
+    keys = [k for k, ds in results.items() if name not in ds.variables]
+    return (name, keys) if keys else None
+
+
+def _reading(make, results: dict, profile: str | None, results_root: Path,
+             set_aside: dict[str, DamagedFileError] | None):
+    """``make(results)``; where it stops on a variable some results lack
+    (:func:`lacking_variable`), those results are set aside as damaged (named with the
+    variable and the command that remakes them, in ``set_aside``) and ``make`` runs on
+    the rest, as if they had not run."""
+    results = dict(results)
+    while True:
+        try:
+            return make(results)
+        except KeyError as err:
+            found = lacking_variable(err, results)
+            if found is None or profile is None:
+                raise
+            name, keys = found
+            for k in keys:
+                path = store.result_path(profile, k, results_root)
+                e = DamagedFileError(
+                    path, f"result {k}, results/{profile}/",
+                    f"lacks the variable '{name}' that the report reads (written by other "
+                    "code, or cut short)",
+                    store.remake_command(store.result_path(profile, k), profile))
+                if set_aside is not None:
+                    set_aside[k] = e
+                results.pop(k)
+
+
+def build_sections(results: dict, outdir: Path, *, profile: str | None = None,
+                   results_root: Path = store.RESULTS_DIR,
+                   set_aside: dict[str, DamagedFileError] | None = None) -> list[Section]:
+    """One :class:`Section` per chapter, with its tables and rendered figures. With
+    ``profile``, a readable result that lacks a variable a chapter's tables read is set
+    aside (``set_aside``) and the chapter built without it (:func:`lacking_variable`)."""
     sections = []
     for ch, title in CHAPTERS.items():
         mod = _chapter_module(ch)
-        tables = list(mod.tables(_chapter_results(results, ch))) if mod is not None else []
+        tables = _reading(lambda r: list(mod.tables(r)), _chapter_results(results, ch),
+                          profile, results_root, set_aside) if mod is not None else []
         sections.append(Section(chapter=ch, title=title, tables=tables,
                                 figures=_load_manifest(outdir, ch)))
     return sections
@@ -124,14 +177,17 @@ def build_sections(results: dict, outdir: Path) -> list[Section]:
 TWIN_KINDS = (("perturbed", "perturbed"), ("native", "native"))
 
 
-def twin_sections(profile: str, results_root: Path = store.RESULTS_DIR
+def twin_sections(profile: str, results_root: Path = store.RESULTS_DIR,
+                  set_aside: dict[str, DamagedFileError] | None = None
                   ) -> list[tuple[str, str, list[Section]]]:
     """The chapters' tables as the twin runs on disk give them: per kind of twin run
     (perturbed: ``--config perturb=1e-7``, native: ``--config isa=native``) with results
     under ``results/<profile>-<kind>/``, (kind, that folder's name, one tables-only
     :class:`Section` per chapter with twin results). Read from those datasets by the same
     chapter modules as the runs' own tables, so the numbers a twin run moves (not only the
-    verdicts) stand beside the runs'; a cell without a twin result shows "not run"."""
+    verdicts) stand beside the runs'; a cell without a twin result shows "not run". A twin
+    result lacking a variable the tables read is set aside as in :func:`build_sections`
+    (``set_aside``, keyed ``"<runs>:<chapter>/<artifact>"``)."""
     out = []
     for kind, flag in TWIN_KINDS:
         name = store.results_name(profile, **{flag: True})
@@ -141,8 +197,11 @@ def twin_sections(profile: str, results_root: Path = store.RESULTS_DIR
             mod = _chapter_module(ch)
             chapter = _chapter_results(twins, ch)
             if mod is not None and chapter:
-                tables = [dataclasses.replace(t, id=f"{kind}-{t.id}")
-                          for t in mod.tables(chapter)]
+                aside: dict[str, DamagedFileError] = {}
+                tables = [dataclasses.replace(t, id=f"{kind}-{t.id}") for t in _reading(
+                    lambda r: list(mod.tables(r)), chapter, name, results_root, aside)]
+                if set_aside is not None:
+                    set_aside.update({f"{name}:{k}": e for k, e in aside.items()})
                 sections.append(Section(chapter=ch, title=title, tables=tables))
         if sections:
             out.append((kind, name, sections))
@@ -369,19 +428,27 @@ def damaged_files(profile: str, results_root: Path,
 def render_report(profile: str, outdir: Path, *, config: dict | None = None,
                   results_root: Path = store.RESULTS_DIR,
                   bench_root: Path = Path("benchmarks"),
-                  scanned: tuple[dict, dict] | None = None) -> Path:
+                  scanned: tuple[dict, dict] | None = None,
+                  set_aside: dict[str, DamagedFileError] | None = None) -> Path:
     """Write ``index.html``, ``summary.md``, ``measurements.md`` (jobs' wall time and memory
     from ``bench_root``, :mod:`thesis.report.measurements`) and ``tables/*.html`` under
     ``outdir``. ``scanned``: the profile's results as :func:`thesis.store.scan_results`
     read them (default: read here); damaged files (:func:`damaged_files`) are named at the
-    top of the page and of the summary, and what reads them shows "not run"."""
+    top of the page and of the summary, and what reads them shows "not run"; so is a
+    readable result that lacks a variable a chapter's tables read (also added to
+    ``set_aside``, :func:`build_sections`)."""
     outdir = Path(outdir)
     results, damaged = scanned or store.scan_results(profile, results_root)
     damaged = damaged_files(profile, results_root, damaged)
     claims_path = Path(results_root) / profile / "claims.json"
     decided = json.loads(claims_path.read_text()) if claims_path.exists() else {}
     claims = decided.get("claims", [])
-    sections = build_sections(results, outdir)
+    aside = {} if set_aside is None else set_aside
+    sections = build_sections(results, outdir, profile=profile, results_root=results_root,
+                              set_aside=aside)
+    twins = twin_sections(profile, results_root, aside)
+    named = {e.path for e in damaged}
+    damaged = damaged + [e for e in aside.values() if e.path not in named]
     power = read_power(profile, results_root)
 
     nav = "".join(f'<a href="#{s.chapter}">{s.chapter}</a>' for s in sections)
@@ -420,7 +487,6 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
     conclusions = V.claims_html(_section_claims(claims, "ch8"), 8)
     if conclusions:
         body.append('<h2 id="ch8">§8.1 — Conclusions</h2>' + conclusions)
-    twins = twin_sections(profile, results_root)
     body.append(_twin_html(twins))
     body.append('<h2 id="claims">All claims</h2>')
     all_claims = V.claims_html(claims) or f'<p class="notrun">{NOT_RUN}</p>'
