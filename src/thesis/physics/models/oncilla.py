@@ -37,7 +37,22 @@ its reason; nothing is fitted to a result of the thesis):
   (:func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`: the fore segments
   x 1.09 for a 182 mm reach, the hind foot of Tab. 4.2-4.4's optima reaching 181.9 mm
   from the hip; the knee range x 2200 / 1850, the hind/fore knee motor counts of
-  ONCILLA.md HW). Every leg stands with its toe ``BUILD_DEPTH`` below its hip, so the
+  ONCILLA.md HW). **Hind legs, decided again from the sources: kept.** The reason is
+  the thesis's own optima, not the motor counts: Tab. 4.2-4.4's hind stance targets
+  need about 177-182 mm of reach from the hip, beyond the fore legs' 167 mm, while
+  §3.3.1 says the optimisation allowed only foot paths in the reachable area, so the
+  real hind legs reached them. The counts are weak evidence: ``HW_RANGE_L1_FORE`` /
+  ``_HIND`` (1850 / 2200) are marked "TODO: CHECK" in liboncilla-hw and applied to hip
+  and knee alike, and a public controller's configuration (ONCILLA.md HW) gives the
+  knee 1350 counts on three legs and 2200 on one. Only the knee range's size rests on
+  them. Cheetah-cub, the predecessor, has fore and hind legs of different segment
+  proportions (Spröwitz et al. 2013), which agrees with the kept choice but gives no
+  Oncilla number. No public source readable here gives the Oncilla's segment lengths,
+  the legs' lateral offset, the feet's size or any spring rate. The Frontiers article
+  and its supplementary material were found only as their openings. The drives'
+  configured gains exist only in the motor boards' raw units (liboncilla-hw
+  ``config/MotorSection.h``: P 400, I 20, D 200, max torque 1100), which no source
+  converts to N m/rad. Every leg stands with its toe ``BUILD_DEPTH`` below its hip, so the
   trunk is level at build whatever the legs' lengths. The segment masses are the same
   for all legs (a choice: no source gives them). Bodies per leg: femur, knee drum,
   tibia, foot. The pantograph's parallel
