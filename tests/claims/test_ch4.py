@@ -408,3 +408,33 @@ def test_search_space_ratio_is_decided_on_its_logarithm():
     assert v.status == "reproduced"
     np.testing.assert_allclose(v.measured["size_ratio_random_over_transfer_geometric_mean"],
                                2.0, rtol=1e-6)
+
+
+def test_a_run_whose_best_particle_fell_makes_the_best_score_claims_inconclusive():
+    """ch4's failure indicator (rule 3b): a run's best particle that fell (score below -1,
+    a fallen robot's -2 + upright share) leaves no claim on the best scores decided, even
+    where the numbers would otherwise reproduce it; the run is named."""
+    from thesis.claims import ch4 as C
+
+    t42 = table4_2(0.0)
+    t42["score"].loc[dict(grade=9, transfer=1)] = t42["score"].sel(grade=9, transfer=0) * 1.09
+    t42["score"].loc[dict(grade=18, transfer=1)] = t42["score"].sel(grade=18, transfer=0) * 1.14
+    ok = dict(table4_2=t42, table4_3=table4_3(0.13))
+    all_ok = dict(ok, table4_4=table4_4(0.05))
+    assert check("ch4.best_speed_gains", **ok).status == "reproduced"
+    assert check("ch4.transfer_gives_better_gaits_in_all_cases", **all_ok).status == "reproduced"
+    fell = t42.copy(deep=True)
+    fell["score"].loc[dict(seed=2, grade=18, transfer=0)] = -1.6
+    for claim, res in (("ch4.best_speed_gains", dict(ok, table4_2=fell)),
+                       ("ch4.transfer_gives_better_gaits_in_all_cases",
+                        dict(all_ok, table4_2=fell))):
+        v = check(claim, **res)
+        assert v.status == "inconclusive", (claim, v.detail)
+        assert "best particle fell" in v.detail and "seed=2, grade=18, transfer=0" in v.detail
+        assert v.measured["failed_runs"] == 1
+    assert C.failed_runs({"ch4/table4_2": fell}, "ch4/table4_2") == [
+        "ch4/table4_2: seed=2, grade=18, transfer=0"]
+    # a best that walked slowly (not below -1) is a value, not a failure
+    slow = t42.copy(deep=True)
+    slow["score"].loc[dict(seed=2, grade=18, transfer=0)] = 0.01
+    assert C.failed_runs({"ch4/table4_2": slow}, "ch4/table4_2") == []

@@ -23,6 +23,14 @@ Dataset contracts (``results/<profile>/ch4/<artifact>.nc``, written by
   ``score`` of every particle on the 18 % grade (seed, transfer, generation, particle).
 - ``fig4_10``: ``search_space_size`` (seed, condition, transfer, generation); condition
   ``grade18`` is the thesis's Fig. 4.10.
+
+Failure indicator (rule 3b): a run fails where its best particle fell (its best score
+below :data:`FELL_BELOW`), i.e. every one of its evaluations fell. The claims on the
+runs' best scores are inconclusive where some run failed (:func:`best_walked`) and are
+decided under rule 3's stated assumption otherwise. The per-generation claims (rule 9)
+rank every particle, fallen ones with their declared scores in [-2, -1), so a fall is a
+low value there, not a failure of the run; the parameter, distance and search-space
+claims read positions, which a fall does not make undefined.
 """
 
 from __future__ import annotations
@@ -117,6 +125,53 @@ def at_thesis_budget(*keys: str):
     return deco
 
 
+#: A score below this is a fallen robot's (the dataset contract above: a fallen robot
+#: scores -2 plus the share of the window it stayed up; no gait walks 1 m/s backwards).
+FELL_BELOW = -1.0
+
+
+def failed_runs(results: Results, *keys: str) -> list[str]:
+    """The runs of the best-particle tables ``keys`` (``table4_2`` ...) whose best
+    particle fell, each as ``"<key>: seed=.., <dim>=.."``: the chapter's failure indicator
+    (rule 3b of :mod:`thesis.claims.stats`). A run's best is the best of all its
+    evaluations (20 particles x 13 generations at the thesis's size), so it fails only
+    where every one of them fell."""
+    out = []
+    for key in keys:
+        sc = variable(results, key, "score", dims=("seed", "transfer"))
+        for idx in np.argwhere(np.asarray(sc.values) < FELL_BELOW):
+            where = ", ".join(f"{d}={sc[d].values[i]}" for d, i in zip(sc.dims, idx))
+            out.append(f"{key}: {where}")
+    return out
+
+
+def best_walked(*keys: str):
+    """Decorator for claims on the runs' best scores: where some run's best particle fell
+    (:func:`failed_runs`), the verdict is inconclusive, whatever the numbers say (rule
+    3b: a failed run's value is unbounded with fewer than 2 failures and no declared
+    range, and 5 seeds bound an unseen failure rate only below 58 %). Where none fell, the
+    claim is decided under rule 3's stated assumption of runs without a failure mode:
+    a run fails only when all of its evaluations fell, and each run's share of fallen
+    evaluations (the per-generation datasets' ``fall_fraction``) is shown in the
+    report's chapter-4 tables, so a reader sees how far the runs were from that."""
+    def deco(fn):
+        @functools.wraps(fn)
+        def check(results: Results) -> Verdict:
+            v = fn(results)
+            failed = failed_runs(results, *keys)
+            if failed and v.status != "not_run":
+                shown = "; ".join(failed[:4]) + ("; ..." if len(failed) > 4 else "")
+                return Verdict("inconclusive", {**v.measured, "failed_runs": len(failed)},
+                               v.statistic,
+                               f"{len(failed)} run(s) whose best particle fell ({shown}): "
+                               "a run that can fail is decided by rule 3b, which cannot "
+                               "decide at this seed count; without it: "
+                               f"{v.status}: {v.detail}")
+            return v
+        return check
+    return deco
+
+
 def arms(results: Results, key: str, **sel) -> tuple[np.ndarray, np.ndarray]:
     """(S, G, N) scores with transfer and without, from a per-generation dataset."""
     dims = _RUN_DIMS + tuple(sel)
@@ -193,6 +248,7 @@ def _best_runs(results: Results, pebbles: bool = True) -> dict[str, tuple[np.nda
 
 
 @at_thesis_budget(T42, T43, T44)
+@best_walked(T42, T43, T44)
 def better_gaits_in_all_cases(results: Results) -> Verdict:
     """§4.8: the best particle with transfer beats the best without in every condition
     (rule 4 on the in-run best scores, each condition)."""
@@ -202,14 +258,16 @@ def better_gaits_in_all_cases(results: Results) -> Verdict:
 
 
 @at_thesis_budget(T42, T43)
+@best_walked(T42, T43)
 def best_speed_gains(results: Results) -> Verdict:
     """§4.6.1-2: best-particle speed gains of transfer (9 % and 14 % on the slopes, 13 %
     with softer legs), per seed, against the thesis's within 25 % of the gain (rules 5 and
     7), decided on the log of the speed ratio (rule 3: ratios decide on their logarithm;
     :func:`thesis.claims.sentences.decide_ratio_like`): the gain band
     [0.75 g, 1.25 g] becomes the log band about log(1 + g) of half-width the smaller of
-    its two sides. Seeds where either best particle fell or walked backwards have no
-    ratio and are left out. The measured gains are in percent, beside the thesis's
+    its two sides. A seed where either best particle fell makes the verdict inconclusive
+    (:func:`best_walked`); one where a best walked backwards has no ratio and is left
+    out. The measured gains are in percent, beside the thesis's
     percent."""
     runs = _best_runs(results, pebbles=False)
     parts = {}
