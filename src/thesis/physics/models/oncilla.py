@@ -84,7 +84,12 @@ its reason; nothing is fitted to a result of the thesis):
   trunk. With 15 sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped
   6 cm; with 30 sweeps at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk
   thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
-  physical (as did halving dt, at twice the cost).
+  physical (as did halving dt, at twice the cost). **Not converged in the sweeps**:
+  30 is a cost choice, not a converged solution. More sweeps change the gaits' speeds
+  several-fold, and hold the scapulae far closer to their commands, until about 120
+  sweeps; from 120 to 240 they move by a few percent (``thesis validate oncilla
+  --set ch4.model.solver_iterations=N``; the 2x-sweeps column of ``--only
+  convergence``). Every chapter on this model inherits that (issue 53).
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
   motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
