@@ -331,6 +331,19 @@ def _damaged(path: Path, role: str, remake: str, cause: str | None = None,
     return DamagedFileError(path, role, cause or _cause(path, err), remake)
 
 
+def _result_role(key: str, runs: str) -> str:
+    return f"result {key} of {_area(key)}, results/{runs}/"
+
+
+def damaged_result(runs: str, key: str, cause: str, root: str | Path = RESULTS_DIR
+                   ) -> DamagedFileError:
+    """The :class:`DamagedFileError` of result ``key`` of the runs ``runs`` under ``root``
+    for ``cause`` (e.g. a readable file that lacks a variable its readers need), with the
+    role and remaking command :func:`open_result` names."""
+    return DamagedFileError(result_path(runs, key, root), _result_role(key, runs), cause,
+                            remake_command(result_path(runs, key), runs))
+
+
 def open_result(path: str | Path, key: str, *, runs: str = "default",
                 role: str | None = None, remake: str | None = None,
                 perturb: float | None = None) -> xr.Dataset:
@@ -357,7 +370,7 @@ def open_result(path: str | Path, key: str, *, runs: str = "default",
             ``path``, its role, the cause and the command that remakes it.
     """
     path = Path(path)
-    role = role or f"result {key} of {_area(key)}, results/{runs}/"
+    role = role or _result_role(key, runs)
     remake = remake or remake_command(result_path(runs, key), runs, perturb)
     if path.stat().st_size == 0:
         raise _damaged(path, role, remake, cause="empty (0 bytes)")

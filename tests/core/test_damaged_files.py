@@ -159,14 +159,20 @@ def _section(summary: str, title: str) -> str:
     return summary.split(f"\n## {title}\n", 1)[1].split("\n## ", 1)[0]
 
 
-@pytest.mark.parametrize("how", DAMAGES)
-def test_report_names_the_damaged_file_first_and_renders_the_rest(tmp_path, capsys, how):
+def _intact_report(tmp_path, capsys):
+    """(results root, report dir, result paths, report args, the intact summary): the
+    fabricated results decided and reported once before anything is damaged."""
     results, out = tmp_path / "results", tmp_path / "reports"
     paths = _results(results)
     _check(results, capsys)
     args = ["report", "--profile", "smoke", "--results", str(results), "--outdir", str(out)]
     assert cli.main(args) == 0
-    intact = (out / "summary.md").read_text()
+    return results, out, paths, args, (out / "summary.md").read_text()
+
+
+@pytest.mark.parametrize("how", DAMAGES)
+def test_report_names_the_damaged_file_first_and_renders_the_rest(tmp_path, capsys, how):
+    results, out, paths, args, intact = _intact_report(tmp_path, capsys)
     _damage(paths[DAMAGED_KEY], how, results)
     _check(results, capsys)
 
@@ -374,12 +380,7 @@ def test_report_sets_aside_a_readable_result_lacking_a_variable_its_tables_read(
     remaking command at the top of the page, its chapter rendered without it, every other
     chapter as with the intact file, exit non-zero. Another KeyError of the report's code
     is not hidden."""
-    results, out = tmp_path / "results", tmp_path / "reports"
-    paths = _results(results)
-    _check(results, capsys)
-    args = ["report", "--profile", "smoke", "--results", str(results), "--outdir", str(out)]
-    assert cli.main(args) == 0
-    intact = (out / "summary.md").read_text()
+    results, out, paths, args, intact = _intact_report(tmp_path, capsys)
     path = paths["ch7/table7_1"]
     ds = xr.load_dataset(path)
     assert "seconds" in ds and len(ds.data_vars) > 1

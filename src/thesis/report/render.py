@@ -145,14 +145,10 @@ def _reading(make, results: dict, profile: str | None, results_root: Path,
                 raise
             name, keys = found
             for k in keys:
-                path = store.result_path(profile, k, results_root)
-                e = DamagedFileError(
-                    path, f"result {k}, results/{profile}/",
-                    f"lacks the variable '{name}' that the report reads (written by other "
-                    "code, or cut short)",
-                    store.remake_command(store.result_path(profile, k), profile))
                 if set_aside is not None:
-                    set_aside[k] = e
+                    set_aside[k] = store.damaged_result(
+                        profile, k, f"lacks the variable '{name}' that the report reads "
+                        "(written by other code, or cut short)", results_root)
                 results.pop(k)
 
 
