@@ -37,14 +37,15 @@ def param_label(name: str) -> str:
 
 
 @functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int):
-    return O.oncilla(dt=dt, solver_iterations=iterations)
+def _model(dt: float, iterations: int, knee_spring: float):
+    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring)
 
 
 def model_of(cfg):
-    """(Model, State) of the configured Oncilla."""
+    """(Model, State) of the configured Oncilla (``model``: dt, sweeps, the fitted knee
+    spring)."""
     m = cfg["model"]
-    return _model(float(m["dt"]), int(m["solver_iterations"]))
+    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]))
 
 
 #: Length of the padded parameter vectors of a mixed batch (the sine family has 13).
