@@ -4,8 +4,9 @@
   its dataset (with provenance) to ``results/<profile>/<chapter>/<artifact>.nc``.
 - ``thesis bench physics --profile smoke``: run a registered benchmark the same way.
 - ``thesis validate oncilla --profile smoke``: the Oncilla model's validation on the
-  thesis's published gaits (V1-V6) and its convergence table, into
-  ``results/<profile>/model/validation.nc`` and ``convergence.nc``.
+  thesis's published gaits (V1-V6), its convergence table and the knee spring's
+  calibration to V1, into ``results/<profile>/model/validation.nc``, ``convergence.nc``
+  and ``calibration.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
   write ``results/<profile>/claims.json``, and the decision rules' power table beside it
   (``claims_power.json``).
@@ -321,8 +322,9 @@ def build_parser() -> argparse.ArgumentParser:
                                         "gaits (results/<profile>/model/)")
     v.add_argument("robot", help="oncilla")
     common(v)
-    v.add_argument("--only", default=None, choices=("validation", "convergence"),
-                   help="run only the validation or only the convergence table")
+    v.add_argument("--only", default=None, choices=("validation", "convergence", "calibration"),
+                   help="run only the validation, the convergence table or the "
+                        "calibration")
     v.add_argument("--output", default=None,
                    help="result path, with --only (default results/<profile>/model/<only>.nc)")
     v.set_defaults(func=_cmd_validate)

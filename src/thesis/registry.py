@@ -81,12 +81,13 @@ EXPERIMENTS: dict[str, str] = {
     "model/oncilla": "thesis.modelcheck.bench:oncilla",
     "model/validation": "thesis.modelcheck.validation:validation",
     "model/convergence": "thesis.modelcheck.validation:convergence",
+    "model/calibration": "thesis.modelcheck.calibration:calibration",
 }
 
 #: ``thesis validate <robot>`` -> registry keys it runs (the validation, then the
 #: convergence table).
 VALIDATIONS: dict[str, tuple[str, ...]] = {
-    "oncilla": ("model/validation", "model/convergence"),
+    "oncilla": ("model/validation", "model/convergence", "model/calibration"),
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -175,6 +176,9 @@ READS: dict[str, tuple[str, ...]] = {
                          "ch4.protocol.settle", "ch4.protocol.fall_height"),
     "model/convergence": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
                           "ch4.protocol.settle", "ch4.protocol.fall_height"),
+    "model/calibration": ("physics.oncilla_calibration", "physics.oncilla_validation",
+                          "ch4.model", "ch4.tether", "ch4.protocol.settle",
+                          "ch4.protocol.fall_height"),
 }
 
 

@@ -105,7 +105,8 @@ def tiny():
 def test_validation_writes_every_quantity_and_decides_every_target(tiny):
     ds = tiny
     assert registry.resolve("model/validation") is V.validation
-    assert registry.VALIDATIONS["oncilla"] == ("model/validation", "model/convergence")
+    assert registry.VALIDATIONS["oncilla"] == ("model/validation", "model/convergence",
+                                               "model/calibration")
     n_cases = len(V.cases({"frequencies": [1.5]}))
     assert ds.sizes["case"] == n_cases and ds.sizes["start"] == 2
     for name in ("speed", "fallen", "roll_max", "pitch_max", "stance_compression",

@@ -149,7 +149,8 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
             other = claim.check(decided_on[0])
             out[name] = other.to_dict()
             out[flag] = other.status != verdict.status
-    out.update(model_validity.flag(claim.requires, results, verdict.status))
+    out.update(model_validity.flag(claim.requires, results, verdict.status,
+                                   claim.paper_keys))
     return out
 
 

@@ -10,11 +10,19 @@ The verdict itself is not changed: the flag says what it may describe (the simul
 the thesis's robot). All of these claims rest on the model's speeds and falls (the
 quantities V1-V5 check) and on its gait families' ranking (V5), so every failed target is
 listed for each of them.
+
+Claims on a calibration target (issue 53 item 4). The knee spring is fitted to V1, Tab.
+3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
+that speed (``paper_keys`` among :data:`thesis.modelcheck.targets.V1_PAPER_KEYS`) and that
+rests on the Oncilla is marked where the profile's results hold the calibration: the model
+was made to walk that number, so matching it is no evidence.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+
+from thesis.modelcheck.targets import V1_PAPER_KEYS
 
 #: Result key of the Oncilla's validation.
 VALIDATION_KEY = "model/validation"
@@ -22,6 +30,10 @@ VALIDATION_KEY = "model/validation"
 ONCILLA_RESULTS = ("ch3/", "ch4/", "ch6/")
 #: Reading shown beside a flagged verdict.
 UNVALIDATED = "decided on an unvalidated model"
+#: Result key of the knee spring's calibration.
+CALIBRATION_KEY = "model/calibration"
+#: Reading shown beside a verdict whose thesis number is the calibration's target.
+CALIBRATION_TARGET = "its thesis number is a calibration target"
 
 
 def failed_targets(results: Mapping) -> list[dict] | None:
@@ -41,27 +53,55 @@ def rests_on_oncilla(requires: Iterable[str]) -> bool:
     return any(str(r).startswith(ONCILLA_RESULTS) for r in requires)
 
 
-def flag(requires: Iterable[str], results: Mapping, status: str = "") -> dict:
+def calibration_mark(paper_keys: Iterable[str], results: Mapping) -> dict | None:
+    """The calibration-target record of a claim with ``paper_keys``: ``keys`` (its V1
+    keys), ``fitted_knee_spring`` [N m/rad], ``configured_matches_fit`` and ``reading``
+    (:data:`CALIBRATION_TARGET`); None when no key is V1's or the calibration was not run."""
+    keys = sorted(set(paper_keys) & set(V1_PAPER_KEYS))
+    ds = results.get(CALIBRATION_KEY)
+    if not keys or ds is None:
+        return None
+    return {"keys": keys, "reading": CALIBRATION_TARGET,
+            "fitted_knee_spring": float(ds["fitted_knee_spring"]),
+            "configured_matches_fit": bool(int(ds["configured_matches_fit"]))}
+
+
+def flag(requires: Iterable[str], results: Mapping, status: str = "",
+         paper_keys: Iterable[str] = ()) -> dict:
     """The fields a claim's verdict gains (empty when none): ``model_validation`` with
     ``unvalidated`` (True), ``reading`` (:data:`UNVALIDATED`) and ``failed_targets``,
     where the claim rests on the Oncilla and a validation target failed; or
-    ``unvalidated`` False with no failed target where the validation passed. A claim
-    that was not decided (``status`` ``"not_run"``) gains nothing."""
+    ``unvalidated`` False with no failed target where the validation passed; and
+    ``calibration_target`` (:func:`calibration_mark`) where its thesis numbers include
+    the calibration's target. A claim that was not decided (``status`` ``"not_run"``)
+    gains nothing."""
     if status == "not_run" or not rests_on_oncilla(requires):
         return {}
+    out = {}
+    mark = calibration_mark(paper_keys, results)
+    if mark is not None:
+        out["calibration_target"] = mark
     failed = failed_targets(results)
     if failed is None:
-        return {}
+        return out
     if not failed:
-        return {"model_validation": {"unvalidated": False, "failed_targets": []}}
-    return {"model_validation": {"unvalidated": True, "reading": UNVALIDATED,
-                                 "failed_targets": failed}}
+        out["model_validation"] = {"unvalidated": False, "failed_targets": []}
+    else:
+        out["model_validation"] = {"unvalidated": True, "reading": UNVALIDATED,
+                                   "failed_targets": failed}
+    return out
 
 
 def text(claim: Mapping) -> str:
-    """The flag in words for the report ("" when the claim carries none or passed)."""
+    """The flags in words for the report ("" when the claim carries none, or only a
+    passed validation)."""
+    parts = []
     mv = claim.get("model_validation") or {}
-    if not mv.get("unvalidated"):
-        return ""
-    names = ", ".join(f["target"] for f in mv.get("failed_targets", []))
-    return f"{UNVALIDATED} (failed: {names}; thesis validate oncilla)"
+    if mv.get("unvalidated"):
+        names = ", ".join(f["target"] for f in mv.get("failed_targets", []))
+        parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate oncilla)")
+    ct = claim.get("calibration_target")
+    if ct:
+        parts.append(f"{CALIBRATION_TARGET} (V1, Tab. 3.1a's speed: the knee spring was "
+                     f"fitted to it, {ct['fitted_knee_spring']:.4g} N m/rad)")
+    return "; ".join(parts)

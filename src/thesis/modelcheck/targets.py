@@ -137,13 +137,17 @@ def published_gaits() -> list[PublishedGait]:
             *_ch4_optima()]
 
 
+#: The paper keys of V1's two speeds (§3.3.1.3's comparison speed, §3.3.3's forward speed):
+#: the calibration's target (:mod:`thesis.modelcheck.calibration`).
+V1_PAPER_KEYS = ("fig3_4/gait=half_ellipse/speed_compared", "table3_2/forward_speed")
+
+
 def published_speeds() -> dict:
     """The published speeds the targets compare with [m/s], read from :mod:`thesis.paper`:
     ``v1`` (lo, hi) of Tab. 3.1a at 1.5 Hz (§3.3.1.3's comparison speed and §3.3.3's
     forward speed), ``v2`` {frequency [Hz]: speed} of Tab. 3.1b at 1.5 Hz and at its
     fastest frequency (§3.3.1.3)."""
-    lo = paper.get("fig3_4/gait=half_ellipse/speed_compared").value
-    hi = paper.get("table3_2/forward_speed").value
+    lo, hi = (paper.get(k).value for k in V1_PAPER_KEYS)
     v15 = paper.get("fig3_4/gait=spline/frequency=1.5/speed").value
     vmax = paper.get("fig3_4/gait=spline/max_speed").value
     fmax = paper.get("fig3_4/gait=spline/max_speed_frequency").value

@@ -1,7 +1,8 @@
 """Report tables of the Oncilla model's validation (``results/<profile>/model/validation.nc``
 and ``convergence.nc``, :mod:`thesis.modelcheck.validation`): V1-V6 passed or failed with
 their numbers, the published gaits on the model, every published optimum's foot path
-inside or outside the model's reach, and the convergence table in dt and solver sweeps.
+inside or outside the model's reach, the convergence table in dt and solver sweeps, and the
+knee spring's calibration to V1 (``calibration.nc``, :mod:`thesis.modelcheck.calibration`).
 
 Every number is read from the datasets; without one a table says "not run".
 """
@@ -17,6 +18,7 @@ from thesis.report.model import NOT_RUN, Table
 
 VALIDATION = "model/validation"
 CONVERGENCE = "model/convergence"
+CALIBRATION = "model/calibration"
 
 
 def _deg(x) -> str:
@@ -166,7 +168,50 @@ def convergence_cases_table(results: dict) -> Table:
                       "did); the same perturbed starts at every setting.")
 
 
+def calibration_table(results: dict) -> Table:
+    """The fitted knee spring: the grid, the fit, its residual and the value the chapters
+    run (every fitted value with its fit and residual, issue 53 item 4)."""
+    ds = results.get(CALIBRATION)
+    cols = ["knee spring [N m/rad]", "speed [m/s] (starts)", "fallen",
+            "stance compression [mm]", "role"]
+    title = "Calibration: the knee spring fitted to V1 alone"
+    ref = "Tab. 3.1a, §3.3.1.2-3, §3.3.3"
+    if ds is None:
+        return Table(id="oncilla_calibration", title=title, thesis_ref=ref, columns=cols,
+                     rows=[[NOT_RUN] * len(cols)])
+    rows = []
+    for k in ds["knee_spring"].values:
+        d = ds.sel(knee_spring=k)
+        sp = d["grid_speed"].values
+        comp = d["grid_compression"].values
+        rows.append([fmt(float(k), 3),
+                     f"{fmt(float(d['grid_gait_speed']), 3)} ({', '.join(fmt(v, 3) for v in sp)})",
+                     f"{int(d['grid_fallen'].sum())} / {len(sp)}",
+                     fmt(1e3 * float(np.nanmean(comp)) if np.isfinite(comp).any() else np.nan, 3),
+                     "grid"])
+    fit = float(ds["fitted_knee_spring"])
+    rows.append([fmt(fit, 4), f"{fmt(float(ds['residual_speed']), 3)} ("
+                 + ", ".join(fmt(v, 3) for v in ds["residual_start_speed"].values) + ")",
+                 "—", "—", "fit" + ("" if int(ds["fit_inside_grid"]) else
+                                    " (no bracket: the nearest grid point)")])
+    conf = float(ds["configured_knee_spring"])
+    note = (f"target {fmt(float(ds['target_speed']), 3)} m/s (V1's midpoint), Tab. 3.1a at "
+            f"{ds.attrs.get('frequency')} Hz, {int(ds.sizes['start'])} perturbed starts, "
+            f"dt {fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
+            f"{ds.attrs.get('solver_iterations')} sweeps. Fit {fmt(fit, 4)} N m/rad by "
+            f"log-linear interpolation; residual {fmt(float(ds['residual']), 3)} m/s. The "
+            f"chapters run {fmt(conf, 4)} N m/rad (ch4.model.knee_spring): "
+            + ("the fit." if int(ds["configured_matches_fit"]) else
+               "NOT the fit: the configured spring differs from what the procedure gives "
+               "on this profile's model.")
+            + " V1's speed is a calibration target, not a validation: claims whose thesis "
+              "number it is are marked.")
+    return Table(id="oncilla_calibration", title=title, thesis_ref=ref, columns=cols,
+                 rows=rows, note=note)
+
+
 def tables(results: dict) -> list[Table]:
     """The validation's tables (``results`` keyed like ``"model/validation"``)."""
     return [targets_table(results), cases_table(results), reach_table(results),
-            convergence_table(results), convergence_cases_table(results)]
+            convergence_table(results), convergence_cases_table(results),
+            calibration_table(results)]
