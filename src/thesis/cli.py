@@ -6,7 +6,8 @@
 - ``thesis validate oncilla --profile smoke``: the Oncilla model's validation on the
   thesis's published gaits (V1-V6), its convergence table and the knee spring's
   calibration to V1, into ``results/<profile>/model/validation.nc``, ``convergence.nc``
-  and ``calibration.nc``.
+  and ``calibration.nc``; ``thesis validate puppy``: the Puppy II's recordings in dt and
+  sweeps, into ``model/puppy_convergence.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
   write ``results/<profile>/claims.json``, and the decision rules' power table beside it
   (``claims_power.json``).
@@ -320,11 +321,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("validate", help="validate a robot model on the thesis's published "
                                         "gaits (results/<profile>/model/)")
-    v.add_argument("robot", help="oncilla")
+    v.add_argument("robot", help="oncilla or puppy")
     common(v)
-    v.add_argument("--only", default=None, choices=("validation", "convergence", "calibration"),
+    v.add_argument("--only", default=None, choices=("validation", "convergence", "calibration",
+                                               "puppy_convergence"),
                    help="run only the validation, the convergence table or the "
-                        "calibration")
+                        "calibration (oncilla), or the convergence table (puppy)")
     v.add_argument("--output", default=None,
                    help="result path, with --only (default results/<profile>/model/<only>.nc)")
     v.set_defaults(func=_cmd_validate)

@@ -82,12 +82,14 @@ EXPERIMENTS: dict[str, str] = {
     "model/validation": "thesis.modelcheck.validation:validation",
     "model/convergence": "thesis.modelcheck.validation:convergence",
     "model/calibration": "thesis.modelcheck.calibration:calibration",
+    "model/puppy_convergence": "thesis.modelcheck.puppy_convergence:convergence",
 }
 
-#: ``thesis validate <robot>`` -> registry keys it runs (the validation, then the
-#: convergence table).
+#: ``thesis validate <robot>`` -> registry keys it runs (the Oncilla's validation,
+#: convergence table and calibration; the Puppy II's convergence table).
 VALIDATIONS: dict[str, tuple[str, ...]] = {
     "oncilla": ("model/validation", "model/convergence", "model/calibration"),
+    "puppy": ("model/puppy_convergence",),
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -176,6 +178,7 @@ READS: dict[str, tuple[str, ...]] = {
                          "ch4.protocol.settle", "ch4.protocol.fall_height"),
     "model/convergence": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
                           "ch4.protocol.settle", "ch4.protocol.fall_height"),
+    "model/puppy_convergence": ("physics.puppy_convergence", "ch5"),
     "model/calibration": ("physics.oncilla_calibration", "physics.oncilla_validation",
                           "ch4.model", "ch4.tether", "ch4.protocol.settle",
                           "ch4.protocol.fall_height"),

@@ -144,6 +144,6 @@ def test_validate_verb_refuses_what_it_cannot_do():
     from thesis import cli
 
     with pytest.raises(SystemExit, match="unknown robot"):
-        cli.main(["validate", "puppy", "--profile", "smoke"])
+        cli.main(["validate", "arm4", "--profile", "smoke"])
     with pytest.raises(SystemExit, match="--output needs --only"):
         cli.main(["validate", "oncilla", "--profile", "smoke", "--output", "x.nc"])

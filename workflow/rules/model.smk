@@ -2,7 +2,8 @@
 # oncilla`): the thesis's published gaits on the model, decided against V1-V6
 # (thesis.modelcheck.targets), and the same runs at dt / 2 and with twice the solver sweeps
 # (the convergence table), and the committed calibration of the knee spring to V1 alone
-# (thesis.modelcheck.calibration). Not a chapter: the claims of ch3, ch4 and ch6 read the
+# (thesis.modelcheck.calibration); the Puppy II's recordings in dt and sweeps
+# (thesis.modelcheck.puppy_convergence). Not a chapter: the claims of ch3, ch4 and ch6 read the
 # validation to mark verdicts decided on an unvalidated model, so both come before claims.
 
 MODEL_CODE = code_version(*CORE_CODE, "modelcheck", "gaits", "physics")
@@ -36,7 +37,28 @@ for _name, _what, _minutes in [
             "--output {output.nc} > {log} 2>&1"
 
 
+rule model_puppy_convergence:
+    message:
+        f"Puppy II model: the recordings at dt, dt/2 and twice the sweeps, profile {PROFILE}"
+    output:
+        nc=result("model", "puppy_convergence"),
+    params:
+        cfg=cfg_slice("model/puppy_convergence"),
+        code=code_version(*CORE_CODE, "modelcheck", "terrain", "physics"),
+    log:
+        log_path("model", "puppy_convergence"),
+    benchmark:
+        bench_path("model", "puppy_convergence")
+    threads: 2
+    resources:
+        **res("model", "puppy_convergence", mem_mb=4000, runtime=30),
+    shell:
+        "{THESIS} validate puppy --only puppy_convergence --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
+
+
 MODEL_TARGETS = [
+    rules.model_puppy_convergence.output.nc,
     rules.model_validation.output.nc,
     rules.model_convergence.output.nc,
     rules.model_calibration.output.nc,

@@ -2,7 +2,9 @@
 and ``convergence.nc``, :mod:`thesis.modelcheck.validation`): V1-V6 passed or failed with
 their numbers, the published gaits on the model, every published optimum's foot path
 inside or outside the model's reach, the convergence table in dt and solver sweeps, and the
-knee spring's calibration to V1 (``calibration.nc``, :mod:`thesis.modelcheck.calibration`).
+knee spring's calibration to V1 (``calibration.nc``, :mod:`thesis.modelcheck.calibration`),
+and the Puppy II's recordings in dt and sweeps (``puppy_convergence.nc``,
+:mod:`thesis.modelcheck.puppy_convergence`).
 
 Every number is read from the datasets; without one a table says "not run".
 """
@@ -19,6 +21,7 @@ from thesis.report.model import NOT_RUN, Table
 VALIDATION = "model/validation"
 CONVERGENCE = "model/convergence"
 CALIBRATION = "model/calibration"
+PUPPY_CONVERGENCE = "model/puppy_convergence"
 
 
 def _deg(x) -> str:
@@ -210,8 +213,47 @@ def calibration_table(results: dict) -> Table:
                  rows=rows, note=note)
 
 
+def puppy_convergence_table(results: dict) -> Table:
+    """The Puppy II's recordings at dt, dt / 2 and twice the sweeps, per Tab. 5.1 cell."""
+    ds = results.get(PUPPY_CONVERGENCE)
+    title = "Convergence of the Puppy II's recordings in the time step and the solver sweeps"
+    ref = "§5.3.1, Tab. 5.1"
+    settings = [] if ds is None else [str(x) for x in ds["setting"].values]
+    cols = ["gait", "terrain"] + [f"speed [m/s] at {x}" for x in settings] \
+        + [f"turned over at {x}" for x in settings] \
+        + [f"speed change at {x}" for x in settings[1:]] \
+        + [f"paw-force fluctuation change at {x}" for x in settings[1:]]
+    if ds is None:
+        return Table(id="puppy_convergence", title=title, thesis_ref=ref, columns=["—"],
+                     rows=[[NOT_RUN]])
+    rows = []
+    for c in range(int(ds.sizes["case"])):
+        d = ds.isel(case=c)
+        rows.append([str(d["case_gait"].values), str(d["case_terrain"].values),
+                     *[fmt(float(v), 3) for v in d["case_speed"].values],
+                     *[f"{100 * float(v):.0f} %" for v in d["fall_rate"].values],
+                     *["moved (defined at one setting only)" if np.isinf(float(v))
+                       else f"{100 * float(v):.0f} %" for v in d["speed_change"].values],
+                     *[f"{100 * float(v):.1f} %" for v in d["touch_change"].values]])
+    verdicts = "; ".join(
+        f"{r}: {'converged' if int(ds['converged'].sel(refined=r)) else 'NOT converged'} "
+        f"(largest speed change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %, "
+        f"fall rate {100 * float(ds['fall_rate_change'].sel(refined=r)):.0f} points)"
+        for r in ds["refined"].values)
+    return Table(id="puppy_convergence", title=title, thesis_ref=ref, columns=cols, rows=rows,
+                 note=f"{verdicts}. Each cell's trials ({ds.attrs.get('trials_per_cell')} per "
+                      f"frequency, {ds.attrs.get('samples')} samples at 50 Hz) from the same "
+                      "starts, jitter and noise at every setting; speed over the ground from "
+                      "the camera, over the trials that did not turn over. Passes when every "
+                      "cell's speed moves by at most "
+                      f"{100 * float(ds.attrs.get('speed_tolerance', np.nan)):.0f} % and the "
+                      f"fall rate by at most "
+                      f"{100 * float(ds.attrs.get('fall_tolerance', np.nan)):.0f} points; the "
+                      "paw forces are shown, not decided.")
+
+
 def tables(results: dict) -> list[Table]:
     """The validation's tables (``results`` keyed like ``"model/validation"``)."""
     return [targets_table(results), cases_table(results), reach_table(results),
             convergence_table(results), convergence_cases_table(results),
-            calibration_table(results)]
+            calibration_table(results), puppy_convergence_table(results)]

@@ -1,0 +1,145 @@
+"""``thesis validate puppy`` (registry ``model/puppy_convergence``): the simulated Puppy
+II's recordings at the chapter's time step, at half of it and with twice the solver sweeps
+(issue 53 item 1, the convergence table of the Puppy II).
+
+Chapter 5's recordings (:func:`thesis.terrain.recordings.generate`) are made three times
+from the same trial table, starts, terrain jitter, gait commands and sensor noise (the
+same seeds): at ``ch5.model``'s dt and sweeps, at dt / 2, and at dt with twice the sweeps
+(the settings of :data:`thesis.modelcheck.validation.SETTINGS`). Every non-empty cell of
+Tab. 5.1 (gait x terrain, over its frequencies) runs ``trials_per_cell`` trials per
+frequency of ``samples`` samples each (``physics.puppy_convergence``).
+
+Measured per trial: its speed over the ground (the distance between the camera's first and
+last position over the trial's duration [m/s], the recordings' ``pos_x``, ``pos_y``),
+whether it was stopped because the robot turned over (shorter than planned), and the
+paw forces' standard deviation over the trial, averaged over the four paws [N] (the touch
+signals chapter 5 classifies on; their mean is the robot's weight at any setting, their
+fluctuation is what the contact physics shapes). Per cell: the speed over the trials that
+stayed up (:func:`thesis.modelcheck.targets.gait_speed`), the fall rate and the paw-force
+fluctuation. The verdict is the Oncilla's
+(:func:`thesis.modelcheck.validation.compare_settings`): every cell's speed moves by at
+most 10 % and the fall rate by at most 5 points against the chapter's own setting. The
+paw forces are recorded beside it, not decided.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from thesis import store
+from thesis.modelcheck import targets as TG
+from thesis.modelcheck import validation as V
+from thesis.terrain import gaits as G
+from thesis.terrain import recordings as R
+from thesis.terrain import sensors as S
+
+#: Stream of the convergence's trial table, starts and noise (the same at every setting).
+EXPERIMENT = "model/puppy_convergence"
+
+
+def trial_speeds(recs: R.Recordings, rate: float) -> np.ndarray:
+    """(T,) each trial's speed over the ground [m/s]: camera displacement from its first
+    to its last sample over the trial's duration (NaN for a one-sample trial)."""
+    ix, iy = S.NAMES.index("pos_x"), S.NAMES.index("pos_y")
+    out = np.full(len(recs.length), np.nan)
+    for i, (o, n) in enumerate(zip(recs.offset, recs.length)):
+        if n > 1:
+            xy = recs.signals[o:o + n][:, [ix, iy]].astype(np.float64)
+            out[i] = float(np.linalg.norm(xy[-1] - xy[0])) / ((n - 1) / rate)
+    return out
+
+
+def touch_fluctuation(recs: R.Recordings) -> np.ndarray:
+    """(T,) each trial's paw-force standard deviation over its samples, averaged over the
+    four paws [N] (sensor noise included)."""
+    cols = [S.NAMES.index(n) for n in S.TOUCH]
+    return np.array([float(recs.signals[o:o + n][:, cols].astype(np.float64).std(0).mean())
+                     for o, n in zip(recs.offset, recs.length)])
+
+
+def _cells(recs: R.Recordings):
+    """The (gait, terrain) cells present, in Tab. 5.1's order."""
+    seen = []
+    for g, t in zip(recs.gait, recs.terrain):
+        if (int(g), int(t)) not in seen:
+            seen.append((int(g), int(t)))
+    return seen
+
+
+def _config(ch5: dict, pc: dict, fdt: float, fsw: int) -> dict:
+    n = int(pc["samples"])
+    rec = dict(ch5["recordings"], max_trials_per_cell=int(pc["trials_per_cell"]),
+               samples={"default": [n, n]})
+    model = dict(ch5["model"], dt=float(ch5["model"]["dt"]) * fdt,
+                 solver_iterations=int(ch5["model"]["solver_iterations"]) * int(fsw))
+    return dict(ch5, recordings=rec, model=model)
+
+
+def convergence(ctx) -> xr.Dataset:
+    """``model/puppy_convergence``: the module docstring's three settings (§5.3.1's
+    recordings, Tab. 5.1's cells)."""
+    full = ctx.full_config
+    ch5, pc = full["ch5"], full["physics"]["puppy_convergence"]
+    rate = float(ch5["recordings"]["sample_rate"])
+    speeds, falls, touch, walls, dts, sweeps = [], [], [], [], [], []
+    cells = None
+    for name, fdt, fsw in V.SETTINGS:
+        cfg = _config(ch5, pc, fdt, fsw)
+        recs, info = R.generate(cfg, ctx.root_seed, experiment=EXPERIMENT)
+        ctx.log.info("puppy convergence %s: %d trials in %.1f s", name, len(recs.length),
+                     info["wall_seconds"])
+        planned = np.asarray(info["planned_length"])
+        fell = recs.length < planned
+        sp, tm = trial_speeds(recs, rate), touch_fluctuation(recs)
+        cells = _cells(recs) if cells is None else cells
+        rows = [np.flatnonzero((recs.gait == g) & (recs.terrain == t)) for g, t in cells]
+        speeds.append([TG.gait_speed(sp[r], fell[r]) for r in rows])
+        falls.append([float(fell[r].mean()) for r in rows])
+        touch.append([float(tm[r].mean()) for r in rows])
+        walls.append(float(info["wall_seconds"]))
+        dts.append(float(cfg["model"]["dt"]))
+        sweeps.append(int(cfg["model"]["solver_iterations"]))
+    speeds, falls, touch = map(np.asarray, (speeds, falls, touch))
+    rel, worst, total, dfall, passed = V.compare_settings(speeds, falls)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        touch_rel = np.abs(touch[1:] - touch[0]) / np.abs(touch[0])
+    S_, SC = ("setting",), ("setting", "case")
+    a = V._a
+    data = dict(
+        case_speed=(SC, speeds, a("m s-1", "speed over the ground of the cell (mean over "
+                                           "the trials that stayed up; NaN: fewer than half)")),
+        fall_rate=(SC, falls, a("1", "fraction of the cell's trials stopped because the "
+                                     "robot turned over")),
+        touch_std=(SC, touch, a("N", "paw-force standard deviation of the cell's trials "
+                                     "(mean over paws and trials)")),
+        total_fall_rate=(S_, total, a("1", "fraction of all trials that turned over")),
+        dt=(S_, np.array(dts), a("s", "physics time step")),
+        solver_iterations=(S_, np.array(sweeps), a("1", "solver sweeps per step")),
+        speed_change=(("refined", "case"), rel, a(
+            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
+        max_speed_change=(("refined",), worst, a("1", "largest relative speed change")),
+        touch_change=(("refined", "case"), touch_rel, a(
+            "1", "|paw-force standard deviation - its value at dt| / its value at dt "
+                 "(recorded, not decided)")),
+        fall_rate_change=(("refined",), dfall, a("1", "|fall rate - fall rate at dt|")),
+        converged=(("refined",), passed.astype(np.int8), a(
+            "1", f"1 if speeds moved <= {V.CONVERGENCE_SPEED:.0%} and the fall rate <= "
+                 f"{V.CONVERGENCE_FALL_POINTS * 100:.0f} points")),
+        rollout_wall_seconds=(S_, np.array(walls), a(
+            "s", "wall time of the recordings, compilation included", **store.WALL_CLOCK)),
+    )
+    coords = dict(setting=[s[0] for s in V.SETTINGS], refined=[s[0] for s in V.SETTINGS[1:]],
+                  case=np.arange(len(cells)),
+                  case_gait=("case", [G.GAITS[g] for g, _ in cells]),
+                  case_terrain=("case", [R.TERRAINS[t] for _, t in cells]))
+    ds = xr.Dataset(data, coords=coords)
+    ds["case_gait"].attrs.update(units="1", long_name="gait of the Tab. 5.1 cell")
+    ds["case_terrain"].attrs.update(units="1", long_name="terrain of the Tab. 5.1 cell")
+    ds.attrs.update(
+        title="Convergence of the simulated Puppy II's recordings in dt and sweeps",
+        thesis_ref="§5.3.1, Tab. 5.1 (the recordings of chapter 5)",
+        seeds=[int(ctx.root_seed)], samples=int(pc["samples"]),
+        trials_per_cell=int(pc["trials_per_cell"]), speed_tolerance=V.CONVERGENCE_SPEED,
+        fall_tolerance=V.CONVERGENCE_FALL_POINTS, converged=int(passed.all()))
+    return ds

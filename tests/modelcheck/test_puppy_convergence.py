@@ -1,0 +1,79 @@
+"""The Puppy II's convergence table (thesis.modelcheck.puppy_convergence, ``thesis validate
+puppy``): its per-trial measurements on recordings whose answer is known, and the table end
+to end on tiny trials. No test asserts whether the current model converges (that is what
+the table reports)."""
+
+from __future__ import annotations
+
+import logging
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from thesis import registry
+from thesis.config import load_config
+from thesis.modelcheck import puppy_convergence as PC
+from thesis.modelcheck import validation as V
+from thesis.report import validation as RV
+from thesis.terrain import recordings as R
+from thesis.terrain import sensors as S
+
+
+def _recordings(tracks, touch_std):
+    """Recordings of trials moving along ``tracks`` [(start xy, end xy, samples)] with
+    paw forces alternating around 3 N by +-``touch_std``."""
+    sig, off, length = [], [], []
+    for (a, b, n), sd in zip(tracks, touch_std):
+        x = np.zeros((n, len(S.NAMES)), np.float32)
+        x[:, [S.NAMES.index("pos_x"), S.NAMES.index("pos_y")]] = np.linspace(a, b, n)
+        x[:, [S.NAMES.index(t) for t in S.TOUCH]] = 3.0 + sd * (-1.0) ** np.arange(n)[:, None]
+        off.append(sum(length))
+        length.append(n)
+        sig.append(x)
+    k = len(tracks)
+    return R.Recordings(signals=np.concatenate(sig), offset=np.array(off),
+                        length=np.array(length), terrain=np.zeros(k, int), gait=np.zeros(k, int),
+                        frequency=np.ones(k), names=S.NAMES)
+
+
+def test_trial_speed_is_the_camera_displacement_over_the_trial_duration():
+    recs = _recordings([((0, 0), (3, 4), 251), ((1, 1), (1, 1), 51), ((0, 0), (0, 0), 1)],
+                       [0.5, 0.0, 0.0])
+    sp = PC.trial_speeds(recs, 50.0)
+    assert sp[0] == pytest.approx(5.0 / 5.0, rel=1e-6)  # 5 m in 250 / 50 = 5 s
+    assert sp[1] == 0.0 and np.isnan(sp[2])
+    np.testing.assert_allclose(PC.touch_fluctuation(recs)[:2], [0.5, 0.0], atol=1e-4)
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    config = load_config("smoke", overrides={"physics": {"puppy_convergence": dict(
+        samples=40)}})
+    ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
+                          key="model/puppy_convergence", log=logging.getLogger("test"))
+    return PC.convergence(ctx), config
+
+
+def test_convergence_runs_the_three_settings_on_every_tab5_1_cell(tiny):
+    ds, config = tiny
+    assert registry.resolve("model/puppy_convergence") is PC.convergence
+    assert list(ds["setting"].values) == [s[0] for s in V.SETTINGS]
+    cells = {(g, t) for (g, t), counts in R.TAB5_1.items() if sum(counts)}
+    assert {(str(g), str(t)) for g, t in zip(ds["case_gait"].values,
+                                             ds["case_terrain"].values)} == cells
+    m = config["ch5"]["model"]
+    np.testing.assert_allclose(ds["dt"].values, [m["dt"], m["dt"] / 2, m["dt"]])
+    assert ds["solver_iterations"].values.tolist() == [m["solver_iterations"]] * 2 \
+        + [2 * m["solver_iterations"]]
+    for name in ("case_speed", "fall_rate", "touch_std", "speed_change", "max_speed_change",
+                 "fall_rate_change", "converged", "touch_change"):
+        assert name in ds and "units" in ds[name].attrs, name
+    # the verdict is the Oncilla's rule on these numbers
+    _, worst, _, dfall, passed = V.compare_settings(ds["case_speed"].values,
+                                                    ds["fall_rate"].values)
+    np.testing.assert_allclose(ds["max_speed_change"].values, worst)
+    assert ds["converged"].values.tolist() == passed.astype(int).tolist()
+    t = RV.puppy_convergence_table({"model/puppy_convergence": ds})
+    assert len(t.rows) == len(cells) and "converged" in t.note
+    assert RV.puppy_convergence_table({}).rows == [[RV.NOT_RUN]]
