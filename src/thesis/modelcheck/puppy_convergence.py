@@ -27,7 +27,6 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from thesis import store
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
 from thesis.terrain import gaits as G
@@ -101,34 +100,19 @@ def convergence(ctx) -> xr.Dataset:
         dts.append(float(cfg["model"]["dt"]))
         sweeps.append(int(cfg["model"]["solver_iterations"]))
     speeds, falls, touch = map(np.asarray, (speeds, falls, touch))
-    rel, worst, total, dfall, passed = V.compare_settings(speeds, falls)
+    data, passed = V.settings_variables(speeds, falls, dts, sweeps, walls)
     with np.errstate(invalid="ignore", divide="ignore"):
         touch_rel = np.abs(touch[1:] - touch[0]) / np.abs(touch[0])
-    S_, SC = ("setting",), ("setting", "case")
-    a = V._a
-    data = dict(
-        case_speed=(SC, speeds, a("m s-1", "speed over the ground of the cell (mean over "
-                                           "the trials that stayed up; NaN: fewer than half)")),
-        fall_rate=(SC, falls, a("1", "fraction of the cell's trials stopped because the "
-                                     "robot turned over")),
-        touch_std=(SC, touch, a("N", "paw-force standard deviation of the cell's trials "
-                                     "(mean over paws and trials)")),
-        total_fall_rate=(S_, total, a("1", "fraction of all trials that turned over")),
-        dt=(S_, np.array(dts), a("s", "physics time step")),
-        solver_iterations=(S_, np.array(sweeps), a("1", "solver sweeps per step")),
-        speed_change=(("refined", "case"), rel, a(
-            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
-        max_speed_change=(("refined",), worst, a("1", "largest relative speed change")),
-        touch_change=(("refined", "case"), touch_rel, a(
-            "1", "|paw-force standard deviation - its value at dt| / its value at dt "
-                 "(recorded, not decided)")),
-        fall_rate_change=(("refined",), dfall, a("1", "|fall rate - fall rate at dt|")),
-        converged=(("refined",), passed.astype(np.int8), a(
-            "1", f"1 if speeds moved <= {V.CONVERGENCE_SPEED:.0%} and the fall rate <= "
-                 f"{V.CONVERGENCE_FALL_POINTS * 100:.0f} points")),
-        rollout_wall_seconds=(S_, np.array(walls), a(
-            "s", "wall time of the recordings, compilation included", **store.WALL_CLOCK)),
-    )
+    data["case_speed"][2]["long_name"] = ("speed over the ground of the cell (mean over the "
+                                          "trials that stayed up; NaN: fewer than half)")
+    data["fall_rate"][2]["long_name"] = ("fraction of the cell's trials stopped because "
+                                         "the robot turned over")
+    data["touch_std"] = (("setting", "case"), touch, V._a(
+        "N", "paw-force standard deviation of the cell's trials (mean over paws and "
+             "trials)"))
+    data["touch_change"] = (("refined", "case"), touch_rel, V._a(
+        "1", "|paw-force standard deviation - its value at dt| / its value at dt "
+             "(recorded, not decided)"))
     coords = dict(setting=[s[0] for s in V.SETTINGS], refined=[s[0] for s in V.SETTINGS[1:]],
                   case=np.arange(len(cells)),
                   case_gait=("case", [G.GAITS[g] for g, _ in cells]),

@@ -397,6 +397,49 @@ def compare_settings(speeds, fall_rates):
     return rel, worst, total, dfall, passed
 
 
+def settings_variables(speeds, fall_rates, dts, sweeps, walls) -> tuple[dict, np.ndarray]:
+    """The dataset variables of a convergence table over :data:`SETTINGS` (the Oncilla's
+    and the Puppy II's, :mod:`thesis.modelcheck.puppy_convergence`).
+
+    Args:
+        speeds, fall_rates: (G, C) per setting and case (:func:`compare_settings`).
+        dts [s], sweeps, walls [s]: (G,) each setting's step, solver sweeps and wall time.
+
+    Returns:
+        ({name: (dims, values, attrs)} for ``case_speed``, ``fall_rate``,
+        ``total_fall_rate``, ``dt``, ``solver_iterations``, ``speed_change``,
+        ``max_speed_change``, ``max_speed_change_defined``, ``fall_rate_change``,
+        ``converged``, ``rollout_wall_seconds``; passed (G-1,) bool).
+    """
+    rel, worst, total, dfall, passed = compare_settings(speeds, fall_rates)
+    both = np.where(np.isfinite(rel), rel, np.nan)
+    worst_both = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in both])
+    S, SC, R_ = ("setting",), ("setting", "case"), ("refined",)
+    data = dict(
+        case_speed=(SC, np.asarray(speeds, np.float64), _a(
+            "m s-1", "speed of the case (mean over the starts that stayed up; NaN: fewer "
+                     "than half)")),
+        fall_rate=(SC, np.asarray(fall_rates, np.float64), _a(
+            "1", "fraction of the case's starts that fell")),
+        total_fall_rate=(S, total, _a("1", "fraction of all runs that fell")),
+        dt=(S, np.array(dts, np.float64), _a("s", "physics time step")),
+        solver_iterations=(S, np.array(sweeps), _a("1", "solver sweeps per step")),
+        speed_change=(("refined", "case"), rel, _a(
+            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
+        max_speed_change=(R_, worst, _a("1", "largest relative speed change (inf: a case "
+                                             "whose speed is defined at one setting only)")),
+        max_speed_change_defined=(R_, worst_both, _a(
+            "1", "largest relative speed change among the cases defined at both settings")),
+        fall_rate_change=(R_, dfall, _a("1", "|fall rate - fall rate at dt|")),
+        converged=(R_, passed.astype(np.int8), _a(
+            "1", f"1 if speeds moved <= {CONVERGENCE_SPEED:.0%} and the fall rate <= "
+                 f"{CONVERGENCE_FALL_POINTS * 100:.0f} points")),
+        rollout_wall_seconds=(S, np.array(walls, np.float64), _a(
+            "s", "wall time of the rollouts, compilation included", **store.WALL_CLOCK)),
+    )
+    return data, passed
+
+
 def convergence(ctx) -> xr.Dataset:
     """``model/convergence``: the validation quantities at dt, dt / 2 and dt with twice the
     sweeps, and whether speeds move <= 10 % and fall rates <= 5 points (module docstring)."""
@@ -420,34 +463,9 @@ def convergence(ctx) -> xr.Dataset:
         dts.append(float(model.dt))
         sweeps.append(int(model.solver_iterations))
     speeds, fall_rates, scap = map(np.asarray, (speeds, fall_rates, scap))
-    rel, worst, total, dfall, passed = compare_settings(speeds, fall_rates)
-    both = np.where(np.isfinite(rel), rel, np.nan)
-    worst_both = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in both])
-    S, SC = ("setting",), ("setting", "case")
-    data = dict(
-        case_speed=(SC, speeds, _a("m s-1", "speed of the case (mean over the starts that "
-                                            "stayed up; NaN: fewer than half)")),
-        fall_rate=(SC, fall_rates, _a("1", "fraction of the case's starts that fell")),
-        total_fall_rate=(S, total, _a("1", "fraction of all runs that fell")),
-        scapula_max_deviation=(SC, scap, _a("rad", "largest scapula deviation from its "
-                                                   "command in the window while up")),
-        dt=(S, np.array(dts), _a("s", "physics time step")),
-        solver_iterations=(S, np.array(sweeps), _a("1", "solver sweeps per step")),
-        speed_change=(("refined", "case"), rel, _a(
-            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
-        max_speed_change=(("refined",), worst, _a("1", "largest relative speed change "
-                                                        "(inf: a case whose speed is defined "
-                                                        "at one setting only)")),
-        max_speed_change_defined=(("refined",), worst_both, _a(
-            "1", "largest relative speed change among the cases defined at both settings")),
-        fall_rate_change=(("refined",), dfall, _a("1", "|fall rate - fall rate at dt|")),
-        converged=(("refined",), passed.astype(np.int8), _a(
-            "1", f"1 if speeds moved <= {CONVERGENCE_SPEED:.0%} and the fall rate <= "
-                 f"{CONVERGENCE_FALL_POINTS * 100:.0f} points")),
-        rollout_wall_seconds=(S, np.array(walls), _a("s", "wall time of the rollouts, "
-                                                         "compilation included",
-                                                      **store.WALL_CLOCK)),
-    )
+    data, passed = settings_variables(speeds, fall_rates, dts, sweeps, walls)
+    data["scapula_max_deviation"] = (("setting", "case"), scap, _a(
+        "rad", "largest scapula deviation from its command in the window while up"))
     coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
                   case=np.arange(len(cs)), case_gait=("case", [c["gait"] for c in cs]),
                   case_frequency=("case", np.array([c["frequency"] for c in cs])))
