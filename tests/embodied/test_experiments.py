@@ -19,7 +19,8 @@ from thesis.embodied import teacher as TE
 from thesis.runctx import RunContext
 
 CFG = dict(
-    seeds=[0, 1, 2], model=dict(dt=0.00205, solver_iterations=30),
+    seeds=[0, 1, 2], model=dict(dt=0.00205, solver_iterations=30, knee_spring=10.0,
+                                joint_hz=1.0 / 0.00205, contact_hz=0.25 / 0.00205),
     control=dict(substeps=4, input_noise=0.01, jitter=0.15, encoder_counts=4096,
                  encoder_noise=0.5),
     protocol=dict(settle=0.5, normalisation=1.0, stage_seconds=2.0, running=4.0,

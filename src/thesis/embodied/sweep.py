@@ -104,21 +104,19 @@ def controller_dt(cfg: dict) -> float:
     return int(cfg["control"]["substeps"]) * float(cfg["model"]["dt"])
 
 
-#: The Oncilla's constraint softness in chapter 6 [Hz]: what the engine's former per-step
-#: rule (1 / dt joints, 0.25 / dt contacts) gave at ch6's 2.05-ms step, stated as physical
-#: constants (issue 53) so that chapter 6's results do not move; stiffer than the
-#: 400 / 100 Hz of chapters 3 and 4 (``oncilla.JOINT_HZ``, ``CONTACT_HZ``).
-SOFTNESS = dict(joint_hz=1.0 / 0.00205, contact_hz=0.25 / 0.00205)
-
-
 @functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int):
-    return O.oncilla(dt=dt, solver_iterations=iterations, **SOFTNESS)
+def _model(dt: float, iterations: int, knee_spring: float, joint_hz: float,
+           contact_hz: float):
+    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
+                     joint_hz=joint_hz, contact_hz=contact_hz)
 
 
 def model_of(cfg: dict):
-    """(Model, State) of the configured Oncilla (``ch6.model``)."""
-    return _model(float(cfg["model"]["dt"]), int(cfg["model"]["solver_iterations"]))
+    """(Model, State) of the configured Oncilla (``ch6.model``: step, sweeps, the fitted
+    knee spring and the constraint softness [Hz]; by default chapters 3 and 4's robot)."""
+    m = cfg["model"]
+    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
+                  float(m["joint_hz"]), float(m["contact_hz"]))
 
 
 def teachers_from(ds: xr.Dataset) -> dict[str, tuple]:
