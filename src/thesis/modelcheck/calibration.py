@@ -106,7 +106,7 @@ def fit_log_linear(grid, speeds, target: float) -> dict:
 
 
 def _measure(full: dict, knee_spring: float, case: dict, kicks, *, settle, seconds,
-             fall_height, batch) -> dict:
+             fall_height, batch) -> tuple[dict, object]:
     ch4 = full["ch4"]
     model, state = V._model({**ch4, "model": dict(ch4["model"], knee_spring=knee_spring)})
     return V.measure_cases(model, state, [case], kicks, settle=settle, seconds=seconds,

@@ -59,11 +59,7 @@ def touch_fluctuation(recs: R.Recordings) -> np.ndarray:
 
 def _cells(recs: R.Recordings):
     """The (gait, terrain) cells present, in Tab. 5.1's order."""
-    seen = []
-    for g, t in zip(recs.gait, recs.terrain):
-        if (int(g), int(t)) not in seen:
-            seen.append((int(g), int(t)))
-    return seen
+    return list(dict.fromkeys(zip(map(int, recs.gait), map(int, recs.terrain))))
 
 
 def _config(ch5: dict, pc: dict, fdt: float, fsw: int) -> dict:
