@@ -33,7 +33,7 @@ import time
 from pathlib import Path
 
 from thesis import departures, registry, store
-from thesis.config import PROFILES, load_config
+from thesis.config import PROFILES, load_config, merge, parse_scalar
 from thesis.errors import ConfigError, DamagedFileError, MissingInputError, SimulationDiverged
 from thesis.runctx import RunContext
 
@@ -50,17 +50,26 @@ def _kv(items: list[str] | None, what: str) -> dict[str, str]:
     return out
 
 
-def _overrides(items: list[str] | None) -> dict:
-    """``--set ch2.epochs=3`` -> nested dict; values parsed as YAML scalars."""
-    import yaml
-
+def _overrides(args) -> dict:
+    """The overrides of a command: ``thesis --config-json '{...}'`` (the pipeline's nested
+    ``snakemake --config`` values, passed on to every job), then each ``--set ch2.epochs=3``
+    over it (values parsed by :func:`thesis.config.parse_scalar`)."""
     out: dict = {}
-    for k, v in _kv(items, "set").items():
-        node = out
+    if args.config_json:
+        try:
+            out = json.loads(args.config_json)
+        except json.JSONDecodeError as e:
+            raise SystemExit(f"--config-json is not JSON: {e}") from None
+        if not isinstance(out, dict):
+            raise SystemExit(f"--config-json must be a JSON object, got {args.config_json!r}")
+    for k, v in _kv(args.set, "set").items():
+        node: dict = {}
+        top = node
         parts = k.split(".")
         for p in parts[:-1]:
             node = node.setdefault(p, {})
-        node[parts[-1]] = yaml.safe_load(v)
+        node[parts[-1]] = parse_scalar(v)
+        out = merge(out, top)
     return out
 
 
@@ -142,7 +151,7 @@ def run_experiment(key: str, profile: str, *, inputs: dict[str, str] | None = No
 
 def _cmd_run(args) -> int:
     run_experiment(args.key, args.profile, inputs=_kv(args.input, "input"),
-                   output=args.output, overrides=_overrides(args.set),
+                   output=args.output, overrides=_overrides(args),
                    config_file=args.config_file, perturb=args.perturb)
     return 0
 
@@ -152,7 +161,7 @@ def _cmd_bench(args) -> int:
         known = ", ".join(sorted(registry.BENCHMARKS)) or "none yet"
         raise SystemExit(f"unknown benchmark {args.name!r}; available: {known}")
     run_experiment(registry.BENCHMARKS[args.name], args.profile, output=args.output,
-                   overrides=_overrides(args.set), config_file=args.config_file)
+                   overrides=_overrides(args), config_file=args.config_file)
     return 0
 
 
@@ -171,7 +180,7 @@ def _cmd_validate(args) -> int:
     if args.output and len(keys) != 1:
         raise SystemExit("--output needs --only (one dataset per output path)")
     for key in keys:
-        run_experiment(key, args.profile, output=args.output, overrides=_overrides(args.set),
+        run_experiment(key, args.profile, output=args.output, overrides=_overrides(args),
                        config_file=args.config_file)
     return 0
 
@@ -184,7 +193,7 @@ EXIT_DAMAGED = 4
 def _cmd_check(args) -> int:
     from thesis.claims import evaluate_all
 
-    load_config(args.profile, args.config_file)  # a broken profile is an error here too
+    load_config(args.profile, args.config_file, _overrides(args))  # a broken profile too
     # a damaged file is set aside (store.scan_results): the claims that need it are
     # not_run naming it, every other claim is decided as usual
     results, damaged = store.scan_results(args.profile, args.results)
@@ -251,7 +260,7 @@ def _json_default(o):
 def _cmd_report(args) -> int:
     from thesis.report import render
 
-    config = load_config(args.profile, args.config_file)
+    config = load_config(args.profile, args.config_file, _overrides(args))
     outdir = Path(args.outdir or Path("reports") / args.profile)
     # a damaged result is set aside: everything else is rendered, the page names it
     scanned = store.scan_results(args.profile, args.results)
@@ -296,6 +305,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run as a perturbed twin: initial states (and ch2's initial weights) "
                         "moved by this relative size, e.g. 1e-7 (about one float32 ulp); "
                         "results go to results/<profile>-perturbed/ (0: off)")
+    p.add_argument("--config-json", default=None, metavar="JSON",
+                   help="nested overrides merged over the profile, as a JSON object; the "
+                        "pipeline passes snakemake's --config values on this way")
     sub = p.add_subparsers(dest="command", required=True)
 
     def common(sp):

@@ -122,6 +122,38 @@ def load_config(profile: str, path: str | Path | None = None,
     return validate_config(config)
 
 
+def parse_scalar(text: str) -> Any:
+    """A command-line value as the YAML scalar it spells (``3`` -> 3, ``true`` -> True,
+    ``[0, 1]`` -> [0, 1], ``screen`` -> "screen"), with YAML 1.1's gap filled: a float
+    without a dot (``1e-7``) is a number, not a string (words such as ``nan`` stay
+    strings). Used by ``thesis --set`` and for Snakemake's nested ``--config`` values
+    (:func:`typed_overrides`)."""
+    value = yaml.safe_load(text)
+    if isinstance(value, str) and any(c.isdigit() for c in text):
+        try:
+            return float(text)
+        except ValueError:
+            return value
+    return value
+
+
+def typed_overrides(over: Any) -> Any:
+    """Snakemake's ``--config`` overrides with every string leaf parsed by
+    :func:`parse_scalar`.
+
+    Snakemake parses a top-level ``--config key=value`` as int, float or bool, but loads a
+    nested one (``'ch3={"model": {"solver_iterations": 60}}'``) with YAML's base loader,
+    which leaves every scalar a string; the schema would then refuse the number.
+    """
+    if isinstance(over, dict):
+        return {k: typed_overrides(v) for k, v in over.items()}
+    if isinstance(over, list):
+        return [typed_overrides(v) for v in over]
+    if isinstance(over, str):
+        return parse_scalar(over)
+    return over
+
+
 def merge(base: dict, over: dict) -> dict:
     """Deep merge ``over`` into a copy of ``base`` (dicts merge, everything else replaces)."""
     out = copy.deepcopy(base)

@@ -191,3 +191,22 @@ def test_sigterm_during_an_atomic_write_leaves_nothing(tmp_path):
     proc.send_signal(signal.SIGTERM)
     assert proc.wait(timeout=30) == 128 + signal.SIGTERM
     assert list(tmp_path.iterdir()) == []
+
+
+def test_config_json_reaches_the_job_under_each_set(fake_registry, tmp_path, capsys):
+    """``thesis --config-json`` (how the pipeline passes ``snakemake --config`` on) is merged
+    over the profile and each ``--set`` over it; a value the schema refuses is an error
+    naming its key, and something that is not a JSON object is refused."""
+    out = tmp_path / "j.nc"
+    assert cli.main(["--config-json", '{"root_seed": 5, "ch2": {"seeds": [0]}}', "run",
+                     "ch9/good", "--profile", "smoke", "--output", str(out)]) == 0
+    assert store.read_dataset(out)["distance"].values.tolist() == [5.0, 10.0]
+    out2 = tmp_path / "k.nc"
+    assert cli.main(["--config-json", '{"root_seed": 5}', "run", "ch9/good", "--profile",
+                     "smoke", "--output", str(out2), "--set", "root_seed=2"]) == 0
+    assert store.read_dataset(out2)["distance"].values.tolist() == [2.0, 4.0]
+    assert cli.main(["--config-json", '{"root_seed": -1}', "run", "ch9/good", "--profile",
+                     "smoke", "--output", str(tmp_path / "bad.nc")]) == 2
+    assert "root_seed" in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="JSON object"):
+        cli.main(["--config-json", "[1]", "run", "ch9/good", "--profile", "smoke"])

@@ -87,3 +87,25 @@ def test_overrides_merge_and_validate():
     assert cfg["root_seed"] == 7
     with pytest.raises(ConfigError, match="root_seed"):
         load_config("smoke", overrides={"root_seed": -1})
+
+
+def test_command_line_scalars_parse_as_what_they_spell():
+    """Nested ``snakemake --config`` values arrive as strings (YAML's base loader):
+    numbers, booleans and lists come back typed, words stay strings, ``1e-7`` (a float
+    to YAML 1.1 only with a dot) is a number."""
+    from thesis.config import parse_scalar, typed_overrides
+
+    assert parse_scalar("30") == 30 and isinstance(parse_scalar("30"), int)
+    assert parse_scalar("1e-7") == pytest.approx(1e-7)
+    assert parse_scalar("true") is True
+    assert parse_scalar("screen") == "screen" and parse_scalar("nan") == "nan"
+    assert parse_scalar("[0, 1]") == [0, 1]
+    raw = {"ch3": {"model": {"solver_iterations": "30", "knee_spring": "1.944"}},
+           "ch6": {"seeds": ["0", "1"], "teacher": {"source": "screen"}}, "root_seed": 4}
+    typed = typed_overrides(raw)
+    assert typed == {"ch3": {"model": {"solver_iterations": 30, "knee_spring": 1.944}},
+                     "ch6": {"seeds": [0, 1], "teacher": {"source": "screen"}},
+                     "root_seed": 4}
+    assert load_config("smoke", overrides=typed)["ch3"]["model"]["solver_iterations"] == 30
+    with pytest.raises(ConfigError, match="solver_iterations"):
+        load_config("smoke", overrides=raw)

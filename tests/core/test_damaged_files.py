@@ -323,6 +323,10 @@ def test_load_results_raises_the_one_line_error(tmp_path):
         store.check_input("ch6/trot", "teacher", tmp_path / "nope.nc")
 
 
+# the CLI's options before its command: --perturb REL, --config-json '{...}' (overrides)
+GLOBAL_OPTS = r"(?:--[\w-]+ (?:'[^']*'|\S+) )*"
+
+
 @pytest.mark.slow
 def test_every_input_the_rules_pass_is_what_its_check_expects():
     """Every ``--input name=path`` of the planned jobs (smoke, with chapter 3's screen of
@@ -338,12 +342,12 @@ def test_every_input_the_rules_pass_is_what_its_check_expects():
     assert proc.returncode == 0, proc.stderr[-4000:]
     seen, written = set(), 0
     for line in (proc.stdout + proc.stderr).splitlines():
-        m = re.search(r"-m thesis (?:--perturb \S+ )?(run|bench) (\S+) .*--output (\S+)", line)
+        m = re.search(rf"-m thesis {GLOBAL_OPTS}(run|bench) (\S+) .*--output (\S+)", line)
         if m and re.fullmatch(r"results/smoke/\w+/\w+\.nc", m[3]):
             key = registry.BENCHMARKS[m[2]] if m[1] == "bench" else m[2]
             assert m[3] == f"results/smoke/{key}.nc", (key, m[3])
             written += 1
-        m = re.search(r"-m thesis (?:--perturb \S+ )?run (\S+)", line)
+        m = re.search(rf"-m thesis {GLOBAL_OPTS}run (\S+)", line)
         for name, path in re.findall(r"--input (\w+)=(\S+)", line) if m else ():
             want, target = store.input_producer(m[1], name, "smoke")
             assert want is not None and target == path, (m[1], name, path, want, target)

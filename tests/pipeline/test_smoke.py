@@ -188,6 +188,20 @@ def test_fixed_teachers_do_not_wait_for_chapter3():
     assert "ch3_table3_1" in screen and "--input table3_1=" in screen
 
 
+def test_nested_config_values_are_typed_and_reach_the_jobs():
+    """A nested ``--config`` number is a number (Snakemake hands it over as a string), and
+    the job's command carries every override, so it computes with what its params name;
+    without overrides the command is unchanged."""
+    def plan(*config):
+        proc = snakemake("results/smoke/ch3/table3_1.nc", "--forceall", "-n", "-p",
+                         "--config", "profile=smoke", *config, timeout=300)
+        assert proc.returncode == 0, proc.stderr[-4000:]
+        return proc.stdout + proc.stderr
+    nested = plan('ch3={"model": {"solver_iterations": 31}}')
+    assert """--config-json '{"ch3": {"model": {"solver_iterations": 31}}}' run ch3/""" in nested
+    assert "--config-json" not in plan()
+
+
 def test_perturbed_twin_runs_plan_beside_the_profile():
     """``--config perturb=1e-7`` plans every chapter but ch6 (its runs carry their own
     twins) into results/smoke-perturbed/ with ``thesis --perturb``, and no claims or report

@@ -1,15 +1,25 @@
 # Lookups shared by every chapter's rules: paths, config slices, code versions.
 # Logic lives in the `thesis` package; this file only names things.
 import json
+import shlex
 import sys
 
-from thesis.config import validate_config
+from thesis.config import typed_overrides, validate_config
+from snakemake.utils import update_config
 from thesis.cli import config_slice
 from thesis.provenance import code_version
 from thesis import resources as _resources
 from thesis.cpupins import native_env
 from thesis.store import results_name
 
+# `--config` values: a nested one reaches Snakemake as strings (YAML's base loader), so its
+# scalars are parsed first (thesis.config.typed_overrides); every override but the run
+# switches (profile, perturb, isa) is passed on to each job (`thesis --config-json`), so
+# a job computes with the values its params (and so its reruns) name.
+_SWITCHES = ("profile", "perturb", "isa")
+OVERRIDES = {k: v for k, v in typed_overrides(workflow.config_settings.overwrite_config).items()
+             if k not in _SWITCHES}
+update_config(config, OVERRIDES)
 # A clear error naming the key and the allowed values, before any job runs.
 config.update(validate_config(config))
 
@@ -34,6 +44,7 @@ THESIS = (
             for k, v in _NATIVE_ENV.items())
     + f"{sys.executable} -m thesis"
     + (f" --perturb {PERTURB!r}" if PERTURB else "")
+    + (f" --config-json {shlex.quote(json.dumps(OVERRIDES, sort_keys=True))}" if OVERRIDES else "")
 )
 # "coopt" is §8.2 made real (thesis.coopt): a report section like a chapter's.
 CHAPTERS = ["ch2", "ch3", "ch4", "ch5", "ch6", "ch7", "coopt"]
