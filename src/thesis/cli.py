@@ -62,15 +62,14 @@ def _overrides(args) -> dict:
             raise SystemExit(f"--config-json is not JSON: {e}") from None
         if not isinstance(out, dict):
             raise SystemExit(f"--config-json must be a JSON object, got {args.config_json!r}")
+    sets: dict = {}
     for k, v in _kv(args.set, "set").items():
-        node: dict = {}
-        top = node
+        node = sets
         parts = k.split(".")
         for p in parts[:-1]:
             node = node.setdefault(p, {})
         node[parts[-1]] = parse_scalar(v)
-        out = merge(out, top)
-    return out
+    return merge(out, sets)
 
 
 def config_slice(config: dict, key: str) -> dict:
