@@ -66,14 +66,12 @@ def test_convergence_runs_the_three_settings_on_every_tab5_1_cell(tiny):
     np.testing.assert_allclose(ds["dt"].values, [m["dt"], m["dt"] / 2, m["dt"]])
     assert ds["solver_iterations"].values.tolist() == [m["solver_iterations"]] * 2 \
         + [2 * m["solver_iterations"]]
-    for name in ("case_speed", "fall_rate", "touch_std", "speed_change", "max_speed_change",
-                 "fall_rate_change", "converged", "touch_change"):
+    for name in ("case_speed", "case_speed_se", "fall_rate", "touch_std", "speed_change",
+                 "speed_change_upper", "max_speed_change", "fall_rate_change", "verdict",
+                 "touch_change"):
         assert name in ds and "units" in ds[name].attrs, name
-    # the verdict is the Oncilla's rule on these numbers
-    _, worst, _, dfall, passed = V.compare_settings(ds["case_speed"].values,
-                                                    ds["fall_rate"].values)
-    np.testing.assert_allclose(ds["max_speed_change"].values, worst)
-    assert ds["converged"].values.tolist() == passed.astype(int).tolist()
+    assert set(ds["verdict"].values) <= {"converged", "not converged", "inconclusive"}
+    assert ds.attrs["verdict"] in {"converged", "not converged", "inconclusive"}
     t = RV.puppy_convergence_table({"model/puppy_convergence": ds})
     assert len(t.rows) == len(cells) and "converged" in t.note
     assert RV.puppy_convergence_table({}).rows == [[RV.NOT_RUN]]

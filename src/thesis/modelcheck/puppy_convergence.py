@@ -27,7 +27,6 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
 from thesis.terrain import gaits as G
 from thesis.terrain import recordings as R
@@ -77,8 +76,8 @@ def convergence(ctx) -> xr.Dataset:
     full = ctx.full_config
     ch5, pc = full["ch5"], full["physics"]["puppy_convergence"]
     rate = float(ch5["recordings"]["sample_rate"])
-    speeds, falls, touch, walls, dts, sweeps = [], [], [], [], [], []
-    cells = None
+    speeds, fells, touch, walls, dts, sweeps = [], [], [], [], [], []
+    cells, case = None, None
     for name, fdt, fsw in V.SETTINGS:
         cfg = _config(ch5, pc, fdt, fsw)
         recs, info = R.generate(cfg, ctx.root_seed, experiment=EXPERIMENT)
@@ -89,18 +88,23 @@ def convergence(ctx) -> xr.Dataset:
         sp, tm = trial_speeds(recs, rate), touch_fluctuation(recs)
         cells = _cells(recs) if cells is None else cells
         rows = [np.flatnonzero((recs.gait == g) & (recs.terrain == t)) for g, t in cells]
-        speeds.append([TG.gait_speed(sp[r], fell[r]) for r in rows])
-        falls.append([float(fell[r].mean()) for r in rows])
+        if case is None:
+            case = np.full(len(recs.length), -1)
+            for c, r in enumerate(rows):
+                case[r] = c
+        speeds.append(sp)
+        fells.append(fell)
         touch.append([float(tm[r].mean()) for r in rows])
         walls.append(float(info["wall_seconds"]))
         dts.append(float(cfg["model"]["dt"]))
         sweeps.append(int(cfg["model"]["solver_iterations"]))
-    speeds, falls, touch = map(np.asarray, (speeds, falls, touch))
-    data, passed = V.settings_variables(speeds, falls, dts, sweeps, walls)
+    touch = np.asarray(touch)
+    data, verdicts = V.settings_variables(np.asarray(speeds), np.asarray(fells), case,
+                                          len(cells), dts, sweeps, walls)
     with np.errstate(invalid="ignore", divide="ignore"):
         touch_rel = np.abs(touch[1:] - touch[0]) / np.abs(touch[0])
     data["case_speed"][2]["long_name"] = ("speed over the ground of the cell (mean over the "
-                                          "trials that stayed up; NaN: fewer than half)")
+                                          "trials that stayed up; NaN: fewer than 3)")
     data["fall_rate"][2]["long_name"] = ("fraction of the cell's trials stopped because "
                                          "the robot turned over")
     data["touch_std"] = (("setting", "case"), touch, V._a(
@@ -120,6 +124,5 @@ def convergence(ctx) -> xr.Dataset:
         title="Convergence of the simulated Puppy II's recordings in dt and sweeps",
         thesis_ref="§5.3.1, Tab. 5.1 (the recordings of chapter 5)",
         seeds=[int(ctx.root_seed)], samples=int(pc["samples"]),
-        trials_per_cell=int(pc["trials_per_cell"]), speed_tolerance=V.CONVERGENCE_SPEED,
-        fall_tolerance=V.CONVERGENCE_FALL_POINTS, converged=int(passed.all()))
+        trials_per_cell=int(pc["trials_per_cell"]), **V.verdict_attrs(verdicts))
     return ds

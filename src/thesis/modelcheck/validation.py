@@ -23,11 +23,14 @@ commands. Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is record
 or outside the model's reach (:func:`reach`). V1-V6 are decided on these numbers
 (:func:`thesis.modelcheck.targets.decide`).
 
-``model/convergence`` measures the same runs three times: at the model's dt, at dt / 2,
-and at dt with twice the solver sweeps (the physical softness of
-:mod:`thesis.physics.builder` does not change with dt, so the three simulate one robot):
-the speeds must move by at most :data:`CONVERGENCE_SPEED` (10 %) and the fall rate by at
-most :data:`CONVERGENCE_FALL_POINTS` (5 percentage points) (issue 53 item 1).
+``model/convergence`` measures the same runs three times, from ``convergence_starts``
+perturbed starts per case (the first ``starts`` of them are the validation's): at the
+model's dt, at dt / 2, and at dt with twice the solver sweeps (the physical softness of
+:mod:`thesis.physics.builder` does not change with dt, so the three simulate one robot).
+The speeds must move by at most 10 % and the fall rate by at most 5 percentage points
+(issue 53 item 1), decided three-valued on intervals that carry the starts' sampling
+spread (:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
+inconclusive.
 """
 
 from __future__ import annotations
@@ -46,12 +49,9 @@ from thesis.gaits import leg as L
 from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
 from thesis.modelcheck import checks as M
+from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck import targets as TG
 
-#: Largest relative change of a case's speed between the settings of the convergence table.
-CONVERGENCE_SPEED = 0.10
-#: Largest change of the fall rate [fraction] between the settings of the convergence table.
-CONVERGENCE_FALL_POINTS = 0.05
 #: Settings of the convergence table: (name, dt factor, sweeps factor).
 SETTINGS = (("dt", 1.0, 1), ("dt/2", 0.5, 1), ("2x sweeps", 1.0, 2))
 #: Phases per cycle at which a foot path is drawn for the reach record.
@@ -369,102 +369,106 @@ def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
     return ds
 
 
-def compare_settings(speeds, fall_rates):
-    """The convergence verdicts of refined settings against the first.
-
-    Args:
-        speeds: (G, C) case speeds [m/s] at G settings (NaN: undefined, the case fell);
-        fall_rates: (G, C) fraction of each case's starts that fell.
-
-    Returns:
-        (rel (G-1, C) |speed - speed_0| / speed_0, inf where the speed is defined at one
-        setting only; worst (G-1,) the largest of rel (NaN when no case is defined at
-        either); total (G,) the fall rate over all cases; dfall (G-1,) |total - total_0|;
-        passed (G-1,) bool: worst <= CONVERGENCE_SPEED and dfall <=
-        CONVERGENCE_FALL_POINTS, an undefined worst failing).
-    """
-    speeds = np.asarray(speeds, np.float64)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.abs(speeds[1:] - speeds[0]) / np.abs(speeds[0])
-    # a speed defined at one setting and not at the other (a gait that falls at one) moved
-    rel = np.where(np.isnan(speeds[1:]) != np.isnan(speeds[0]), np.inf, rel)
-    total = np.asarray(fall_rates, np.float64).mean(axis=1)
-    dfall = np.abs(total[1:] - total[0])
-    worst = np.array([np.max(r[~np.isnan(r)]) if (~np.isnan(r)).any() else np.nan
-                      for r in rel])
-    passed = (np.nan_to_num(worst, nan=np.inf) <= CONVERGENCE_SPEED) \
-        & (dfall <= CONVERGENCE_FALL_POINTS + 1e-12)
-    return rel, worst, total, dfall, passed
-
-
-def settings_variables(speeds, fall_rates, dts, sweeps, walls) -> tuple[dict, np.ndarray]:
+def settings_variables(speeds, fells, case, n_cases: int, dts, sweeps,
+                       walls) -> tuple[dict, np.ndarray]:
     """The dataset variables of a convergence table over :data:`SETTINGS` (the Oncilla's
-    and the Puppy II's, :mod:`thesis.modelcheck.puppy_convergence`).
+    and the Puppy II's, :mod:`thesis.modelcheck.puppy_convergence`), decided by
+    :func:`thesis.modelcheck.convergence_rule.compare_runs`.
 
     Args:
-        speeds, fall_rates: (G, C) per setting and case (:func:`compare_settings`).
+        speeds, fells: (G, N) each run's speed [m/s] and whether it fell, per setting.
+        case: (N,) int, each run's case; n_cases: the number of cases.
         dts [s], sweeps, walls [s]: (G,) each setting's step, solver sweeps and wall time.
 
     Returns:
-        ({name: (dims, values, attrs)} for ``case_speed``, ``fall_rate``,
-        ``total_fall_rate``, ``dt``, ``solver_iterations``, ``speed_change``,
-        ``max_speed_change``, ``max_speed_change_defined``, ``fall_rate_change``,
-        ``converged``, ``rollout_wall_seconds``; passed (G-1,) bool).
+        ({name: (dims, values, attrs)}, verdicts (G-1,) str).
     """
-    rel, worst, total, dfall, passed = compare_settings(speeds, fall_rates)
-    both = np.where(np.isfinite(rel), rel, np.nan)
-    worst_both = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in both])
-    S, SC, R_ = ("setting",), ("setting", "case"), ("refined",)
+    res = CR.compare_runs(speeds, fells, case, n_cases)
+    S, SC, R_, RC = ("setting",), ("setting", "case"), ("refined",), ("refined", "case")
+    tol_s, tol_f = CR.SPEED_TOLERANCE, CR.FALL_TOLERANCE
+    level = f"{1 - CR.ALPHA:.0%}"
     data = dict(
-        case_speed=(SC, np.asarray(speeds, np.float64), _a(
-            "m s-1", "speed of the case (mean over the starts that stayed up; NaN: fewer "
-                     "than half)")),
-        fall_rate=(SC, np.asarray(fall_rates, np.float64), _a(
-            "1", "fraction of the case's starts that fell")),
-        total_fall_rate=(S, total, _a("1", "fraction of all runs that fell")),
+        case_speed=(SC, res["case_speed"], _a(
+            "m s-1", f"speed of the case (mean over the runs that stayed up; NaN: fewer than "
+                     f"{CR.MIN_UP_RUNS})")),
+        case_speed_se=(SC, res["case_speed_se"], _a(
+            "m s-1", "standard error of the case's speed over its runs that stayed up")),
+        fall_rate=(SC, res["fall_rate"], _a("1", "fraction of the case's runs that fell")),
+        total_fall_rate=(S, res["total_fall_rate"], _a("1", "fraction of all runs that fell")),
         dt=(S, np.array(dts, np.float64), _a("s", "physics time step")),
         solver_iterations=(S, np.array(sweeps), _a("1", "solver sweeps per step")),
-        speed_change=(("refined", "case"), rel, _a(
+        speed_change=(RC, res["speed_change"], _a(
             "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
-        max_speed_change=(R_, worst, _a("1", "largest relative speed change (inf: a case "
-                                             "whose speed is defined at one setting only)")),
-        max_speed_change_defined=(R_, worst_both, _a(
-            "1", "largest relative speed change among the cases defined at both settings")),
-        fall_rate_change=(R_, dfall, _a("1", "|fall rate - fall rate at dt|")),
-        converged=(R_, passed.astype(np.int8), _a(
-            "1", f"1 if speeds moved <= {CONVERGENCE_SPEED:.0%} and the fall rate <= "
-                 f"{CONVERGENCE_FALL_POINTS * 100:.0f} points")),
+        speed_change_se=(RC, res["speed_change_se"], _a(
+            "1", "standard error of the relative speed change (delta method)")),
+        speed_change_upper=(RC, res["speed_change_upper"], _a(
+            "1", f"upper end of the {level} interval of |relative speed change|")),
+        speed_change_lower_k=(RC, res["speed_change_lower_k"], _a(
+            "1", "lower end of the Bonferroni interval of |relative speed change|")),
+        max_speed_change=(R_, _nanmax_rows(res["speed_change"]), _a(
+            "1", "largest relative speed change (inf: a case whose speed is defined at one "
+                 "setting only)")),
+        fall_rate_change=(R_, res["fall_rate_change"], _a(
+            "1", "|fall rate - fall rate at dt|")),
+        fall_rate_change_se=(R_, res["fall_rate_change_se"], _a(
+            "1", "standard error of the fall-rate change (Agresti-Caffo)")),
+        fall_rate_change_upper=(R_, res["fall_rate_change_upper"], _a(
+            "1", f"upper end of the {level} interval of |fall-rate change|")),
+        fall_rate_change_lower_k=(R_, res["fall_rate_change_lower_k"], _a(
+            "1", "lower end of the Bonferroni interval of |fall-rate change|")),
+        quantities=(R_, res["quantities"], _a(
+            "1", "quantities tested (cases with a speed at both settings, and the fall rate)")),
+        verdict=(R_, res["verdict"], _a(
+            "1", f"converged: every interval within {tol_s:.0%} (speeds) and "
+                 f"{tol_f * 100:.0f} points (fall rate); not converged: one beyond; else "
+                 "inconclusive (thesis.modelcheck.convergence_rule)")),
         rollout_wall_seconds=(S, np.array(walls, np.float64), _a(
             "s", "wall time of the rollouts, compilation included", **store.WALL_CLOCK)),
     )
-    return data, passed
+    return data, res["verdict"]
+
+
+def _nanmax_rows(x) -> np.ndarray:
+    """(R,) each row's largest value ignoring NaN (NaN for a row of NaN)."""
+    x = np.asarray(x, float)
+    return np.array([np.max(r[~np.isnan(r)]) if (~np.isnan(r)).any() else np.nan for r in x])
+
+
+def verdict_attrs(verdicts) -> dict:
+    """The attributes every convergence table records about its rule and its verdict."""
+    v = [str(x) for x in verdicts]
+    overall = CR.NOT_CONVERGED if CR.NOT_CONVERGED in v else \
+        CR.CONVERGED if all(x == CR.CONVERGED for x in v) else CR.INCONCLUSIVE
+    return dict(speed_tolerance=CR.SPEED_TOLERANCE, fall_tolerance=CR.FALL_TOLERANCE,
+                alpha=CR.ALPHA, min_up_runs=CR.MIN_UP_RUNS, verdict=overall)
 
 
 def convergence(ctx) -> xr.Dataset:
     """``model/convergence``: the validation quantities at dt, dt / 2 and dt with twice the
-    sweeps, and whether speeds move <= 10 % and fall rates <= 5 points (module docstring)."""
+    sweeps, and whether speeds move <= 10 % and fall rates <= 5 points, decided
+    three-valued (module docstring)."""
     full, cfg, settle, fall_height = _setup(ctx)
     cs = cases(cfg)
-    kicks = start_kicks(ctx.root_seed, cfg["starts"], cfg["start_velocity"])
-    speeds, fall_rates, scap, walls, dts, sweeps = [], [], [], [], [], []
+    kicks = start_kicks(ctx.root_seed, cfg["convergence_starts"], cfg["start_velocity"])
+    speeds, fells, scap, walls, dts, sweeps = [], [], [], [], [], []
     for name, fdt, fsw in SETTINGS:
         model, state = _model(full["ch4"], fdt, fsw)
         m = measure_cases(model, state, cs, kicks, settle=settle,
                           seconds=float(cfg["seconds"]), fall_height=fall_height,
                           batch=int(cfg["batch"]))
-        ctx.log.info("convergence %s: %.1f s", name, m["wall"])
-        sp, _ = _case_speeds(cs, m)
-        speeds.append([sp[(c["gait"], c["frequency"])] for c in cs])
-        fall_rates.append(m["fallen"].mean(1))
+        ctx.log.info("convergence %s: %d runs in %.1f s", name, m["speed"].size, m["wall"])
+        speeds.append(m["speed"].ravel())
+        fells.append(m["fallen"].ravel())
         with warnings.catch_warnings():  # a case whose every start fell: NaN
             warnings.simplefilter("ignore", RuntimeWarning)
             scap.append(np.nanmax(m["scapula_max_dev"], axis=1))
         walls.append(m["wall"])
         dts.append(float(model.dt))
         sweeps.append(int(model.solver_iterations))
-    speeds, fall_rates, scap = map(np.asarray, (speeds, fall_rates, scap))
-    data, passed = settings_variables(speeds, fall_rates, dts, sweeps, walls)
-    data["scapula_max_deviation"] = (("setting", "case"), scap, _a(
+    case = np.repeat(np.arange(len(cs)), len(kicks))
+    data, verdicts = settings_variables(np.asarray(speeds), np.asarray(fells), case, len(cs),
+                                        dts, sweeps, walls)
+    data["scapula_max_deviation"] = (("setting", "case"), np.asarray(scap), _a(
         "rad", "largest scapula deviation from its command in the window while up"))
     coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
                   case=np.arange(len(cs)), case_gait=("case", [c["gait"] for c in cs]),
@@ -476,7 +480,6 @@ def convergence(ctx) -> xr.Dataset:
         title="Convergence of the simulated Oncilla's validation quantities in dt and sweeps",
         thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2 (the published gaits of the validation)",
         seeds=[int(ctx.root_seed)], settle=settle, seconds=float(cfg["seconds"]),
-        fall_height=fall_height, speed_tolerance=CONVERGENCE_SPEED,
-        fall_tolerance=CONVERGENCE_FALL_POINTS, model_code_sha256=M.model_code_sha256(),
-        converged=int(passed.all()))
+        fall_height=fall_height, starts=len(kicks),
+        model_code_sha256=M.model_code_sha256(), **verdict_attrs(verdicts))
     return ds

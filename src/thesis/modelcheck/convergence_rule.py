@@ -1,0 +1,197 @@
+"""The three-valued verdict of a convergence table (issue 53 item 1): does refining the
+time step or the solver sweeps move the validation quantities by more than their
+tolerance (speeds :data:`SPEED_TOLERANCE`, fall rate :data:`FALL_TOLERANCE`)?
+
+A convergence table runs the same runs (cases x starts, or Tab. 5.1 cells x trials) at a
+reference setting and at refined ones. On a gait that sometimes falls, whether a run falls
+and how fast a run that stays up walks are draws from the start's perturbation: a change
+between settings is only a change of the robot when it exceeds what the draws alone
+would give. A verdict that ignores this reads sampling noise as non-convergence (or as
+convergence). The rule, fixed before the runs it decides:
+
+* **Speed of a case** at one setting: the mean forward speed of its runs that stayed up,
+  when at least :data:`MIN_UP_RUNS` did (else undefined), with its standard error
+  ``s / sqrt(n_up)`` (``s`` the runs' sample standard deviation).
+* **Relative speed change** of a case: ``r = (v_g - v_0) / v_0`` with the delta-method
+  standard error ``sqrt(se_g^2 + (v_g / v_0)^2 se_0^2) / |v_0|``; the two settings are
+  treated as independent samples (they share their starts, so where outcomes correlate
+  positively the true error is smaller: conservative).
+* **Fall-rate change**: ``d = mean over cases (p_g - p_0)``, the change of the fall rate
+  over all runs with equal runs per case. Its standard error sums each case's two
+  binomial variances, each with Agresti and Caffo's adjustment (one fall and one stand
+  added, so that a case with no fall, or only falls, in a handful of runs still carries
+  sampling error): ``sqrt(sum_c [q_g(1-q_g) + q_0(1-q_0)] / (n_c + 2)) / C`` with
+  ``q = (falls + 1) / (n_c + 2)``; independent settings again, conservative.
+* **Converged**: every case whose speed is defined at both settings has its two-sided
+  ``1 - ALPHA`` interval of ``r`` inside ``+- SPEED_TOLERANCE``, the interval of ``d`` lies
+  inside ``+- FALL_TOLERANCE``, and no case has a speed at one setting only (a gait that
+  walks at one setting and falls at the other moved). All must hold, so no correction
+  for multiplicity is needed (intersection-union test at level ``ALPHA``).
+* **Not converged**: some quantity's interval at ``1 - ALPHA / k`` (Bonferroni over the
+  ``k`` quantities tested: the cases with a speed at both settings and the fall rate)
+  lies wholly beyond its tolerance.
+* **Inconclusive**: anything else. The runs can tell neither; more starts (runs per
+  case) narrow every interval.
+
+A quantity with no sampling error estimate (fewer than two runs) has an infinite
+interval: it cannot make a table converged nor not converged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import stats
+
+#: Largest relative change of a case's speed between the settings (issue 53 item 1).
+SPEED_TOLERANCE = 0.10
+#: Largest change of the fall rate [fraction] between the settings (issue 53 item 1).
+FALL_TOLERANCE = 0.05
+#: Error level of each verdict (two-sided intervals).
+ALPHA = 0.05
+#: Fewest runs that stayed up for a case's speed (and its standard error) to be defined.
+MIN_UP_RUNS = 3
+#: The verdicts.
+CONVERGED, NOT_CONVERGED, INCONCLUSIVE = "converged", "not converged", "inconclusive"
+
+
+def case_speeds(speed, fell, case, n_cases: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each case's speed over its runs that stayed up, at one setting.
+
+    Args:
+        speed: (N,) each run's forward speed [m/s] (NaN where not measured).
+        fell: (N,) bool, whether the run fell.
+        case: (N,) int, the run's case index in ``range(n_cases)``.
+
+    Returns:
+        (mean, se, n_up), each (n_cases,): mean speed [m/s] and its standard error [m/s]
+        over the runs that stayed up (NaN when fewer than :data:`MIN_UP_RUNS` did), and
+        the number of those runs.
+    """
+    speed, fell, case = np.asarray(speed, float), np.asarray(fell, bool), np.asarray(case)
+    mean, se, n_up = np.full(n_cases, np.nan), np.full(n_cases, np.nan), np.zeros(n_cases, int)
+    for c in range(n_cases):
+        v = speed[(case == c) & ~fell & np.isfinite(speed)]
+        n_up[c] = len(v)
+        if len(v) >= MIN_UP_RUNS:
+            mean[c] = v.mean()
+            se[c] = v.std(ddof=1) / np.sqrt(len(v))
+    return mean, se, n_up
+
+
+def speed_change(mean, se, mean0, se0) -> tuple[np.ndarray, np.ndarray]:
+    """(r, se_r): each case's relative speed change against the reference setting and its
+    delta-method standard error (module docstring); NaN where either speed is undefined."""
+    mean, se, mean0, se0 = (np.asarray(x, float) for x in (mean, se, mean0, se0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        r = (mean - mean0) / mean0
+        se_r = np.sqrt(se ** 2 + (mean / mean0) ** 2 * se0 ** 2) / np.abs(mean0)
+    return r, se_r
+
+
+def fall_change(fell, fell0, case, n_cases: int) -> tuple[float, float, float, float]:
+    """(p, p0, d, se_d): the fall rate over all runs at a setting and at the reference
+    (means of the cases' rates), their difference ``d`` and its Agresti-Caffo standard
+    error (module docstring). ``fell``, ``fell0``: (N,) bool; ``case``: (N,) int."""
+    fell, fell0, case = np.asarray(fell, bool), np.asarray(fell0, bool), np.asarray(case)
+    rates, rates0, var = [], [], 0.0
+    for c in range(n_cases):
+        m = case == c
+        n = int(m.sum())
+        if n == 0:
+            raise ValueError(f"case {c} has no runs")
+        x, x0 = int(fell[m].sum()), int(fell0[m].sum())
+        rates.append(x / n)
+        rates0.append(x0 / n)
+        q, q0 = (x + 1) / (n + 2), (x0 + 1) / (n + 2)
+        var += (q * (1 - q) + q0 * (1 - q0)) / (n + 2) if n >= 2 else np.inf
+    p, p0 = float(np.mean(rates)), float(np.mean(rates0))
+    return p, p0, p - p0, float(np.sqrt(var) / n_cases)
+
+
+def decide(r, se_r, defined_one_only, d: float, se_d: float, *,
+           speed_tol: float = SPEED_TOLERANCE, fall_tol: float = FALL_TOLERANCE,
+           alpha: float = ALPHA) -> dict:
+    """The verdict of one refined setting (module docstring).
+
+    Args:
+        r, se_r: (C,) relative speed changes and their standard errors (NaN: undefined).
+        defined_one_only: (C,) bool, cases whose speed is defined at one setting only.
+        d, se_d: fall-rate change and its standard error.
+
+    Returns:
+        dict: ``verdict`` (one of :data:`CONVERGED`, :data:`NOT_CONVERGED`,
+        :data:`INCONCLUSIVE`), ``k`` (quantities tested), ``z`` and ``z_k`` (the normal
+        quantiles of the two intervals), ``speed_upper`` (C,) the upper end of each
+        |r|'s ``1 - alpha`` interval, ``speed_lower_k`` (C,) the lower end of |r|'s
+        ``1 - alpha / k`` interval, ``fall_upper`` and ``fall_lower_k`` the same for |d|.
+    """
+    r, se_r = np.asarray(r, float), np.asarray(se_r, float)
+    both = np.isfinite(r)
+    se_r = np.where(np.isfinite(se_r), se_r, np.inf)
+    se_d = float(se_d) if np.isfinite(se_d) else np.inf
+    k = int(both.sum()) + 1
+    z = float(stats.norm.ppf(1 - alpha / 2))
+    z_k = float(stats.norm.ppf(1 - alpha / (2 * k)))
+    with np.errstate(invalid="ignore"):
+        speed_upper = np.where(both, np.abs(r) + z * se_r, np.nan)
+        speed_lower_k = np.where(both, np.abs(r) - z_k * se_r, np.nan)
+    fall_upper, fall_lower_k = abs(d) + z * se_d, abs(d) - z_k * se_d
+    converged = (bool(np.all(speed_upper[both] <= speed_tol))
+                 and fall_upper <= fall_tol + 1e-12
+                 and not np.any(defined_one_only))
+    beyond = bool(np.any(speed_lower_k[both] > speed_tol)) or fall_lower_k > fall_tol + 1e-12
+    verdict = CONVERGED if converged else NOT_CONVERGED if beyond else INCONCLUSIVE
+    return dict(verdict=verdict, k=k, z=z, z_k=z_k, speed_upper=speed_upper,
+                speed_lower_k=speed_lower_k, fall_upper=float(fall_upper),
+                fall_lower_k=float(fall_lower_k))
+
+
+def compare_runs(speeds, fells, case, n_cases: int, *, speed_tol: float = SPEED_TOLERANCE,
+                 fall_tol: float = FALL_TOLERANCE, alpha: float = ALPHA) -> dict:
+    """Every refined setting against the first, from the runs.
+
+    Args:
+        speeds: (G, N) each run's forward speed [m/s] at G settings (the same N runs).
+        fells: (G, N) bool, whether the run fell.
+        case: (N,) int, each run's case.
+
+    Returns:
+        dict of arrays: ``case_speed``, ``case_speed_se`` (G, C); ``fall_rate`` (G, C);
+        ``total_fall_rate`` (G,); ``speed_change``, ``speed_change_se``,
+        ``speed_change_upper``, ``speed_change_lower_k`` (G-1, C) (|r| bounds; ``inf`` in
+        ``speed_change`` where a case's speed is defined at one setting only);
+        ``fall_rate_change``, ``fall_rate_change_se``, ``fall_rate_change_upper``,
+        ``fall_rate_change_lower_k`` (G-1,) (|d| and its bounds); ``quantities`` (G-1,)
+        ``k``; ``verdict`` (G-1,) str.
+    """
+    speeds, fells = np.asarray(speeds, float), np.asarray(fells, bool)
+    G = speeds.shape[0]
+    sp = [case_speeds(speeds[g], fells[g], case, n_cases) for g in range(G)]
+    mean = np.array([s[0] for s in sp])
+    se = np.array([s[1] for s in sp])
+    falls = np.array([[fells[g][np.asarray(case) == c].mean() for c in range(n_cases)]
+                      for g in range(G)])
+    out = {k: [] for k in ("speed_change", "speed_change_se", "speed_change_upper",
+                           "speed_change_lower_k", "fall_rate_change", "fall_rate_change_se",
+                           "fall_rate_change_upper", "fall_rate_change_lower_k",
+                           "quantities", "verdict")}
+    for g in range(1, G):
+        r, se_r = speed_change(mean[g], se[g], mean[0], se[0])
+        one_only = np.isnan(mean[g]) != np.isnan(mean[0])
+        _, _, d, se_d = fall_change(fells[g], fells[0], case, n_cases)
+        v = decide(r, se_r, one_only, d, se_d, speed_tol=speed_tol, fall_tol=fall_tol,
+                   alpha=alpha)
+        out["speed_change"].append(np.where(one_only, np.inf, np.abs(r)))
+        out["speed_change_se"].append(se_r)
+        out["speed_change_upper"].append(v["speed_upper"])
+        out["speed_change_lower_k"].append(v["speed_lower_k"])
+        out["fall_rate_change"].append(abs(d))
+        out["fall_rate_change_se"].append(se_d)
+        out["fall_rate_change_upper"].append(v["fall_upper"])
+        out["fall_rate_change_lower_k"].append(v["fall_lower_k"])
+        out["quantities"].append(v["k"])
+        out["verdict"].append(v["verdict"])
+    res = {k: np.asarray(v) for k, v in out.items()}
+    res.update(case_speed=mean, case_speed_se=se, fall_rate=falls,
+               total_fall_rate=falls.mean(axis=1))
+    return res

@@ -1,0 +1,90 @@
+"""The three-valued convergence verdict (thesis.modelcheck.convergence_rule) on runs whose
+answer is known: exact repeats converge, a real shift beyond the tolerance does not, and
+draws too noisy to tell stay inconclusive."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thesis.modelcheck import convergence_rule as CR
+
+
+def _runs(speeds_by_setting, fell_by_setting=None):
+    """(G, N) speeds and falls, case index (N,) from lists per setting of per-case lists."""
+    G = len(speeds_by_setting)
+    C = len(speeds_by_setting[0])
+    n = len(speeds_by_setting[0][0])
+    sp = np.array([[np.asarray(c, float) for c in s] for s in speeds_by_setting]).reshape(G, -1)
+    if fell_by_setting is None:
+        fell = np.zeros_like(sp, bool)
+    else:
+        fell = np.array([[np.asarray(c, bool) for c in s]
+                         for s in fell_by_setting]).reshape(G, -1)
+    return sp, fell, np.repeat(np.arange(C), n), C
+
+
+def test_case_speed_is_the_mean_of_the_runs_up_and_needs_three():
+    mean, se, n_up = CR.case_speeds([1.0, 2.0, 3.0, 9.0, 1.0, 1.0], [0, 0, 0, 1, 0, 1],
+                                    [0, 0, 0, 0, 1, 1], 2)
+    assert mean[0] == pytest.approx(2.0) and se[0] == pytest.approx(1.0 / np.sqrt(3))
+    assert np.isnan(mean[1]) and n_up.tolist() == [3, 1]
+
+
+def test_identical_deterministic_runs_converge():
+    rng = np.random.default_rng(0)  # 100 runs per case: no fall in 100 bounds the rate
+    base = [list(0.3 + 0.001 * rng.normal(size=100)),
+            list(0.6 + 0.001 * rng.normal(size=100))]
+    sp, fell, case, C = _runs([base, base, base])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["verdict"].tolist() == [CR.CONVERGED, CR.CONVERGED]
+    np.testing.assert_allclose(res["speed_change"], 0.0, atol=1e-12)
+
+
+def test_a_real_speed_shift_beyond_the_tolerance_is_not_converged():
+    rng = np.random.default_rng(1)
+    a = list(0.50 + 0.01 * rng.normal(size=20))
+    b = list(0.60 + 0.01 * rng.normal(size=20))  # +20 %, spread 2 %
+    sp, fell, case, C = _runs([[a], [b]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["verdict"].tolist() == [CR.NOT_CONVERGED]
+    assert res["speed_change_lower_k"][0, 0] > CR.SPEED_TOLERANCE
+
+
+def test_a_shift_inside_the_noise_is_inconclusive_not_a_failure():
+    rng = np.random.default_rng(2)
+    a = list(0.50 + 0.15 * rng.normal(size=5))  # the chaotic spline: 30 % spread, 5 starts
+    b = list(0.56 + 0.15 * rng.normal(size=5))
+    sp, fell, case, C = _runs([[a], [b]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["verdict"].tolist() == [CR.INCONCLUSIVE]
+
+
+def test_fall_rate_change_is_decided_on_its_interval():
+    n = 400  # many runs: a 20-point rise is beyond doubt, an equal rate is within
+    up = [0.5] * n
+    fell0 = [False] * n
+    fell1 = [i < 0.2 * n for i in range(n)]
+    sp, fell, case, C = _runs([[up], [up], [up]], [[fell0], [fell1], [fell0]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["verdict"].tolist() == [CR.NOT_CONVERGED, CR.CONVERGED]
+    assert res["fall_rate_change"][0] == pytest.approx(0.2)
+    assert res["fall_rate_change_lower_k"][0] > CR.FALL_TOLERANCE
+    # the same 20-point rise on 5 runs: the draws could give it
+    sp, fell, case, C = _runs([[up[:5]], [up[:5]]], [[fell0[:5]], [[1, 0, 0, 0, 0]]])
+    assert CR.compare_runs(sp, fell, case, C)["verdict"].tolist() == [CR.INCONCLUSIVE]
+
+
+def test_agresti_caffo_keeps_error_on_a_case_that_never_fell():
+    _, _, d, se = CR.fall_change([0] * 5, [0] * 5, [0] * 5, 1)
+    assert d == 0.0 and se > 0.1  # 5 runs without a fall do not prove a rate of 0
+    with pytest.raises(ValueError, match="case 1 has no runs"):
+        CR.fall_change([0, 0], [0, 0], [0, 0], 2)
+
+
+def test_a_gait_up_at_one_setting_only_blocks_converged():
+    up = [0.5, 0.5, 0.5, 0.5]
+    sp, fell, case, C = _runs([[up, up], [up, up]],
+                              [[[0] * 4, [0] * 4], [[0] * 4, [1, 1, 0, 0]]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert np.isinf(res["speed_change"][0, 1]) and res["verdict"][0] != CR.CONVERGED
