@@ -397,25 +397,14 @@ def settings_variables(speeds, fells, case, n_cases: int, dts, sweeps,
         total_fall_rate=(S, res["total_fall_rate"], _a("1", "fraction of all runs that fell")),
         dt=(S, np.array(dts, np.float64), _a("s", "physics time step")),
         solver_iterations=(S, np.array(sweeps), _a("1", "solver sweeps per step")),
-        speed_change=(RC, res["speed_change"], _a(
-            "1", "|speed - speed at dt| / speed at dt (inf: defined at one setting only)")),
-        speed_change_se=(RC, res["speed_change_se"], _a(
-            "1", "standard error of the relative speed change (delta method)")),
-        speed_change_upper=(RC, res["speed_change_upper"], _a(
-            "1", f"upper end of the {level} interval of |relative speed change|")),
-        speed_change_lower_k=(RC, res["speed_change_lower_k"], _a(
-            "1", "lower end of the Bonferroni interval of |relative speed change|")),
+        **_interval_variables("speed_change", RC, res, "relative speed change",
+                              "|speed - speed at dt| / speed at dt (inf: defined at one "
+                              "setting only)", "delta method", level),
         max_speed_change=(R_, _nanmax_rows(res["speed_change"]), _a(
             "1", "largest relative speed change (inf: a case whose speed is defined at one "
                  "setting only)")),
-        fall_rate_change=(R_, res["fall_rate_change"], _a(
-            "1", "|fall rate - fall rate at dt|")),
-        fall_rate_change_se=(R_, res["fall_rate_change_se"], _a(
-            "1", "standard error of the fall-rate change (Agresti-Caffo)")),
-        fall_rate_change_upper=(R_, res["fall_rate_change_upper"], _a(
-            "1", f"upper end of the {level} interval of |fall-rate change|")),
-        fall_rate_change_lower_k=(R_, res["fall_rate_change_lower_k"], _a(
-            "1", "lower end of the Bonferroni interval of |fall-rate change|")),
+        **_interval_variables("fall_rate_change", R_, res, "fall-rate change",
+                              "|fall rate - fall rate at dt|", "Agresti-Caffo", level),
         quantities=(R_, res["quantities"], _a(
             "1", "quantities tested (cases with a speed at both settings, and the fall rate)")),
         verdict=(R_, res["verdict"], _a(
@@ -426,6 +415,22 @@ def settings_variables(speeds, fells, case, n_cases: int, dts, sweeps,
             "s", "wall time of the rollouts, compilation included", **store.WALL_CLOCK)),
     )
     return data, res["verdict"]
+
+
+def _interval_variables(name: str, dims: tuple, res: dict, what: str, long_name: str,
+                        method: str, level: str) -> dict:
+    """A change's variables in a convergence table: its size ``name``, its standard error
+    ``name_se``, the upper end of its ``level`` interval ``name_upper`` and the lower end of
+    its Bonferroni interval ``name_lower_k`` (all of |change|, fractions)."""
+    return {
+        name: (dims, res[name], _a("1", long_name)),
+        f"{name}_se": (dims, res[f"{name}_se"], _a("1", f"standard error of the {what} "
+                                                        f"({method})")),
+        f"{name}_upper": (dims, res[f"{name}_upper"], _a(
+            "1", f"upper end of the {level} interval of |{what}|")),
+        f"{name}_lower_k": (dims, res[f"{name}_lower_k"], _a(
+            "1", f"lower end of the Bonferroni interval of |{what}|")),
+    }
 
 
 def _nanmax_rows(x) -> np.ndarray:
