@@ -33,6 +33,29 @@ def test_flag_only_on_oncilla_claims_and_only_when_a_target_failed():
                                                               "failed_targets": []}}
 
 
+def _convergence(verdicts):
+    refined = ["dt/2", "2x sweeps"]
+    return xr.Dataset(dict(
+        verdict=(("refined",), np.array(verdicts)),
+        fall_rate_change=(("refined",), np.array([0.15, 0.02])),
+        max_speed_change=(("refined",), np.array([0.5, 0.2]))), coords=dict(refined=refined))
+
+
+def test_a_model_not_converged_in_dt_is_unvalidated_an_inconclusive_table_is_not_read():
+    ok = {"model/validation": _validation([1] * 6)}
+    bad = {**ok, "model/convergence": _convergence(["not converged", "inconclusive"])}
+    f = MV.flag(["ch3/table3_1"], bad)["model_validation"]
+    assert f["unvalidated"] and [x["target"] for x in f["failed_targets"]] == ["convergence"]
+    assert "dt/2: not converged (fall rate 15.0 points" in f["failed_targets"][0]["text"]
+    assert "failed: convergence;" in MV.text({"model_validation": f})
+    unsure = {**ok, "model/convergence": _convergence(["inconclusive", "converged"])}
+    assert not MV.flag(["ch3/table3_1"], unsure)["model_validation"]["unvalidated"]
+    old_table = {**ok, "model/convergence": xr.Dataset(dict(converged=(("refined",), [0, 0])))}
+    assert not MV.flag(["ch3/table3_1"], old_table)["model_validation"]["unvalidated"]
+    only_conv = {"model/convergence": _convergence(["not converged", "converged"])}
+    assert MV.flag(["ch6/trot"], only_conv)["model_validation"]["unvalidated"]
+
+
 def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
     results = {"model/validation": _validation([0, 1, 1, 1, 1, 1])}
     oncilla = [c for c in CLAIMS if MV.rests_on_oncilla(c.requires)]

@@ -9,7 +9,12 @@ the verdict was decided on an unvalidated model, with the failed targets and the
 The verdict itself is not changed: the flag says what it may describe (the simulator, not
 the thesis's robot). All of these claims rest on the model's speeds and falls (the
 quantities V1-V5 check) and on its gait families' ranking (V5), so every failed target is
-listed for each of them.
+listed for each of them. A model whose convergence table (``model/convergence``,
+:mod:`thesis.modelcheck.convergence_rule`) decides "not converged" is not validated
+either: its speeds and falls change with the time step or the solver sweeps, so the
+table's failed settings are listed beside the failed targets (as "convergence"). An
+inconclusive table flags nothing; a table written before the three-valued rule (no
+``verdict``) is not read.
 
 Claims on a calibration target (issue 53 item 4). The knee spring is fitted to V1, Tab.
 3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
@@ -30,6 +35,8 @@ VALIDATION_KEY = "model/validation"
 ONCILLA_RESULTS = ("ch3/", "ch4/", "ch6/")
 #: Reading shown beside a flagged verdict.
 UNVALIDATED = "decided on an unvalidated model"
+#: Result key of the Oncilla's convergence table.
+CONVERGENCE_KEY = "model/convergence"
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
 #: Reading shown beside a verdict whose thesis number is the calibration's target.
@@ -38,14 +45,35 @@ CALIBRATION_TARGET = "its thesis number is a calibration target"
 
 def failed_targets(results: Mapping) -> list[dict] | None:
     """The failed validation targets of ``results[VALIDATION_KEY]`` as
-    ``[{"target": "V2", "text": <its numbers>}, ...]``; None when the validation was not
-    run (then nothing is flagged)."""
+    ``[{"target": "V2", "text": <its numbers>}, ...]``, followed by
+    :func:`convergence_failure`'s entry where the convergence table decided "not
+    converged"; None when neither was run (then nothing is flagged)."""
     ds = results.get(VALIDATION_KEY)
-    if ds is None:
+    conv = convergence_failure(results)
+    if ds is None and conv is None:
         return None
-    return [{"target": str(t), "text": str(txt)}
-            for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
-                                 ds["target_text"].values) if not int(p)]
+    failed = [] if ds is None else [
+        {"target": str(t), "text": str(txt)}
+        for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
+                             ds["target_text"].values) if not int(p)]
+    return failed + ([conv] if conv and conv["failed"] else [])
+
+
+def convergence_failure(results: Mapping) -> dict | None:
+    """The convergence table's verdict as a target entry: ``{"target": "convergence",
+    "failed": bool, "text": <the settings not converged and their fall-rate changes>}``;
+    None when the table was not run or predates the three-valued rule."""
+    ds = results.get(CONVERGENCE_KEY)
+    if ds is None or "verdict" not in ds:
+        return None
+    bad = [str(r) for r, v in zip(ds["refined"].values, ds["verdict"].values)
+           if str(v) == "not converged"]
+    text = "; ".join(
+        f"{r}: {ds['verdict'].sel(refined=r).values} (fall rate "
+        f"{100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points, largest speed "
+        f"change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %)"
+        for r in ds["refined"].values)
+    return {"target": "convergence", "failed": bool(bad), "text": text}
 
 
 def rests_on_oncilla(requires: Iterable[str]) -> bool:
