@@ -127,14 +127,34 @@ def _rule_note(ds, runs: str) -> str:
             f"a speed needs {a.get('min_up_runs', '?')} runs that stayed up.")
 
 
-def _verdict_cells(r) -> list[str]:
-    """A refined setting's largest speed change with its interval, and the fall rate's."""
+def _case_name(r, i: int) -> str:
+    c = r.isel(case=i)
+    name = str(c["case_gait"].values) if "case_gait" in c.coords else str(i)
+    if "case_frequency" in c.coords:
+        name += f" at {fmt(float(c['case_frequency']), 3)} Hz"
+    if "case_terrain" in c.coords:
+        name += f" on {c['case_terrain'].values}"
+    return name
+
+
+def _verdict_cells(r, tol: float) -> list[str]:
+    """A refined setting's speed evidence, its fall-rate change with the interval ends,
+    and its verdict: the cases whose speed moved beyond the tolerance (Bonferroni lower
+    end above it), else the case with the widest interval (the one that keeps the table
+    from converging)."""
     ch = np.asarray(r["speed_change"].values, float)
     up = np.asarray(r["speed_change_upper"].values, float)
-    i = int(np.nanargmax(np.where(np.isfinite(ch), ch, np.nan))) if np.isfinite(ch).any() \
-        else None
+    lo = np.asarray(r["speed_change_lower_k"].values, float)
+    beyond = [i for i in np.argsort(-np.nan_to_num(lo, nan=-np.inf)) if lo[i] > tol]
+    if beyond:
+        speed = "; ".join(f"{_case_name(r, i)}: {_pct(ch[i])} % (>= {_pct(lo[i])} %)"
+                          for i in beyond)
+    elif np.isfinite(up).any():
+        i = int(np.nanargmax(up))
+        speed = f"none beyond; widest: {_case_name(r, i)}, {_pct(ch[i])} % (<= {_pct(up[i])} %)"
+    else:
+        speed = "—"
     moved = int(np.isinf(ch).sum())
-    speed = "—" if i is None else f"{_pct(ch[i])} % (<= {_pct(up[i])} %)"
     if moved:
         speed += f"; {moved} case(s) up at one setting only"
     fall = (f"{_pct(r['fall_rate_change'], 1)} (<= {_pct(r['fall_rate_change_upper'], 1)}, "
@@ -147,7 +167,7 @@ def convergence_table(results: dict) -> Table:
     three-valued (:mod:`thesis.modelcheck.convergence_rule`)."""
     ds = results.get(CONVERGENCE)
     cols = ["setting", "dt [ms]", "sweeps", "fall rate",
-            "largest speed change (upper end of its interval)",
+            "speed changes beyond the tolerance (Bonferroni lower end)",
             "fall-rate change [points] (interval ends)", "verdict"]
     if ds is None:
         return Table(id="oncilla_convergence", title="Convergence in the time step and sweeps",
@@ -157,7 +177,8 @@ def convergence_table(results: dict) -> Table:
         d = ds.sel(setting=s)
         row = [str(s), fmt(1e3 * float(d["dt"]), 3), str(int(d["solver_iterations"])),
                f"{_pct(d['total_fall_rate'], 1)} %"]
-        row += _verdict_cells(ds.sel(refined=s)) if s in ds["refined"].values \
+        row += _verdict_cells(ds.sel(refined=s), float(ds.attrs.get("speed_tolerance", 0.1))) \
+            if s in ds["refined"].values \
             else ["(reference)", "(reference)", ""]
         rows.append(row)
     return Table(id="oncilla_convergence", title="Convergence of the validation in the time "
