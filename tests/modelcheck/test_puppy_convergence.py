@@ -59,9 +59,16 @@ def test_convergence_runs_the_three_settings_on_every_tab5_1_cell(tiny):
     ds, config = tiny
     assert registry.resolve("model/puppy_convergence") is PC.convergence
     assert list(ds["setting"].values) == [s[0] for s in V.SETTINGS]
-    cells = {(g, t) for (g, t), counts in R.TAB5_1.items() if sum(counts)}
-    assert {(str(g), str(t)) for g, t in zip(ds["case_gait"].values,
-                                             ds["case_terrain"].values)} == cells
+    cells = {(g, t, f) for (g, t), counts in R.TAB5_1.items()
+             for f, n in zip(R.FREQUENCIES, counts) if n}
+    assert {(str(g), str(t), float(f)) for g, t, f in zip(
+        ds["case_gait"].values, ds["case_terrain"].values, ds["case_frequency"].values)} \
+        == cells and ds.sizes["case"] == len(cells)
+    # every case ran exactly trials_per_cell replicate trials (Tab. 5.1's 1-13 lifted)
+    assert ds.attrs["trials_per_cell"] == config["physics"]["puppy_convergence"][
+        "trials_per_cell"]
+    k = ds.attrs["trials_per_cell"]
+    np.testing.assert_allclose((k * ds["fall_rate"].values) % 1, 0, atol=1e-9)
     m = config["ch5"]["model"]
     np.testing.assert_allclose(ds["dt"].values, [m["dt"], m["dt"] / 2, m["dt"]])
     assert ds["solver_iterations"].values.tolist() == [m["solver_iterations"]] * 2 \

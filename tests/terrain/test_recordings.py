@@ -19,6 +19,13 @@ def test_trial_table_has_the_counts_of_tab5_1():
                                            "max_trials_per_cell": 1}},
                            np.random.default_rng(0))
     assert len(capped) == sum(sum(1 for n in c if n) for c in R.TAB5_1.values())
+    exact = R.trial_table({"recordings": {"samples": {"default": [100, 100]},
+                                          "trials_per_frequency": 4,
+                                          "max_trials_per_cell": 1}},
+                          np.random.default_rng(0))
+    assert len(exact) == 4 * len(capped)  # 4 per non-empty cell, whatever Tab. 5.1 says
+    assert {(t["gait"], t["terrain"], t["frequency"]) for t in exact} \
+        == {(t["gait"], t["terrain"], t["frequency"]) for t in capped}
 
 
 def _recs(n_trials=3, length=50):

@@ -6,20 +6,24 @@ Chapter 5's recordings (:func:`thesis.terrain.recordings.generate`) are made thr
 from the same trial table, starts, terrain jitter, gait commands and sensor noise (the
 same seeds): at ``ch5.model``'s dt and sweeps, at dt / 2, and at dt with twice the sweeps
 (the settings of :data:`thesis.modelcheck.validation.SETTINGS`). Every non-empty cell of
-Tab. 5.1 (gait x terrain, over its frequencies) runs ``trials_per_cell`` trials per
-frequency of ``samples`` samples each (``physics.puppy_convergence``).
+Tab. 5.1 (gait x terrain x frequency) is a case and runs exactly ``trials_per_cell``
+replicate trials of ``samples`` samples each (``physics.puppy_convergence``; Tab. 5.1's own
+counts, 1-13 per cell, are too few replicates), each trial with its own start, terrain
+jitter and noise, the same at every setting.
 
 Measured per trial: its speed over the ground (the distance between the camera's first and
 last position over the trial's duration [m/s], the recordings' ``pos_x``, ``pos_y``),
 whether it was stopped because the robot turned over (shorter than planned), and the
 paw forces' standard deviation over the trial, averaged over the four paws [N] (the touch
 signals chapter 5 classifies on; their mean is the robot's weight at any setting, their
-fluctuation is what the contact physics shapes). Per cell: the speed over the trials that
-stayed up (:func:`thesis.modelcheck.targets.gait_speed`), the fall rate and the paw-force
-fluctuation. The verdict is the Oncilla's
-(:func:`thesis.modelcheck.validation.compare_settings`): every cell's speed moves by at
-most 10 % and the fall rate by at most 5 points against the chapter's own setting. The
-paw forces are recorded beside it, not decided.
+fluctuation is what the contact physics shapes). Per case: the speed over the trials that
+stayed up, the fall rate and the paw-force fluctuation. The verdict is the Oncilla's
+(:func:`thesis.modelcheck.convergence_rule.compare_runs`, a case's trials as its runs):
+every case's speed moves by at most 10 % and the fall rate by at most 5 points against the
+chapter's own setting, decided three-valued on intervals over the case's trials (a speed
+needs 3 trials that stayed up). A case is one frequency, so a speed's spread is the
+trials' own, not the difference between frequencies. The paw forces are recorded beside
+it, not decided.
 """
 
 from __future__ import annotations
@@ -57,13 +61,14 @@ def touch_fluctuation(recs: R.Recordings) -> np.ndarray:
 
 
 def _cells(recs: R.Recordings):
-    """The (gait, terrain) cells present, in Tab. 5.1's order."""
-    return list(dict.fromkeys(zip(map(int, recs.gait), map(int, recs.terrain))))
+    """The (gait, terrain, frequency [Hz]) cells present, in Tab. 5.1's order."""
+    return list(dict.fromkeys(zip(map(int, recs.gait), map(int, recs.terrain),
+                                  map(float, recs.frequency))))
 
 
 def _config(ch5: dict, pc: dict, fdt: float, fsw: int) -> dict:
     n = int(pc["samples"])
-    rec = dict(ch5["recordings"], max_trials_per_cell=int(pc["trials_per_cell"]),
+    rec = dict(ch5["recordings"], trials_per_frequency=int(pc["trials_per_cell"]),
                samples={"default": [n, n]})
     model = dict(ch5["model"], dt=float(ch5["model"]["dt"]) * fdt,
                  solver_iterations=int(ch5["model"]["solver_iterations"]) * int(fsw))
@@ -72,7 +77,7 @@ def _config(ch5: dict, pc: dict, fdt: float, fsw: int) -> dict:
 
 def convergence(ctx) -> xr.Dataset:
     """``model/puppy_convergence``: the module docstring's three settings (§5.3.1's
-    recordings, Tab. 5.1's cells)."""
+    recordings, Tab. 5.1's cells and frequencies)."""
     full = ctx.full_config
     ch5, pc = full["ch5"], full["physics"]["puppy_convergence"]
     rate = float(ch5["recordings"]["sample_rate"])
@@ -87,7 +92,8 @@ def convergence(ctx) -> xr.Dataset:
         fell = recs.length < planned
         sp, tm = trial_speeds(recs, rate), touch_fluctuation(recs)
         cells = _cells(recs) if cells is None else cells
-        rows = [np.flatnonzero((recs.gait == g) & (recs.terrain == t)) for g, t in cells]
+        rows = [np.flatnonzero((recs.gait == g) & (recs.terrain == t)
+                               & np.isclose(recs.frequency, f)) for g, t, f in cells]
         if case is None:
             case = np.full(len(recs.length), -1)
             for c, r in enumerate(rows):
@@ -103,23 +109,25 @@ def convergence(ctx) -> xr.Dataset:
                                           len(cells), dts, sweeps, walls)
     with np.errstate(invalid="ignore", divide="ignore"):
         touch_rel = np.abs(touch[1:] - touch[0]) / np.abs(touch[0])
-    data["case_speed"][2]["long_name"] = ("speed over the ground of the cell (mean over the "
+    data["case_speed"][2]["long_name"] = ("speed over the ground of the case (mean over the "
                                           "trials that stayed up; NaN: fewer than 3)")
-    data["fall_rate"][2]["long_name"] = ("fraction of the cell's trials stopped because "
+    data["fall_rate"][2]["long_name"] = ("fraction of the case's trials stopped because "
                                          "the robot turned over")
     data["touch_std"] = (("setting", "case"), touch, V._a(
-        "N", "paw-force standard deviation of the cell's trials (mean over paws and "
+        "N", "paw-force standard deviation of the case's trials (mean over paws and "
              "trials)"))
     data["touch_change"] = (("refined", "case"), touch_rel, V._a(
         "1", "|paw-force standard deviation - its value at dt| / its value at dt "
              "(recorded, not decided)"))
     coords = dict(setting=[s[0] for s in V.SETTINGS], refined=[s[0] for s in V.SETTINGS[1:]],
                   case=np.arange(len(cells)),
-                  case_gait=("case", [G.GAITS[g] for g, _ in cells]),
-                  case_terrain=("case", [R.TERRAINS[t] for _, t in cells]))
+                  case_gait=("case", [G.GAITS[g] for g, _, _ in cells]),
+                  case_terrain=("case", [R.TERRAINS[t] for _, t, _ in cells]),
+                  case_frequency=("case", np.array([f for _, _, f in cells])))
     ds = xr.Dataset(data, coords=coords)
     ds["case_gait"].attrs.update(units="1", long_name="gait of the Tab. 5.1 cell")
     ds["case_terrain"].attrs.update(units="1", long_name="terrain of the Tab. 5.1 cell")
+    ds["case_frequency"].attrs.update(units="Hz", long_name="gait frequency of the case")
     ds.attrs.update(
         title="Convergence of the simulated Puppy II's recordings in dt and sweeps",
         thesis_ref="§5.3.1, Tab. 5.1 (the recordings of chapter 5)",

@@ -257,12 +257,13 @@ def calibration_table(results: dict) -> Table:
 
 
 def puppy_convergence_table(results: dict) -> Table:
-    """The Puppy II's recordings at dt, dt / 2 and twice the sweeps, per Tab. 5.1 cell."""
+    """The Puppy II's recordings at dt, dt / 2 and twice the sweeps, per Tab. 5.1 cell and
+    frequency."""
     ds = results.get(PUPPY_CONVERGENCE)
     title = "Convergence of the Puppy II's recordings in the time step and the solver sweeps"
     ref = "§5.3.1, Tab. 5.1"
     settings = [] if ds is None else [str(x) for x in ds["setting"].values]
-    cols = ["gait", "terrain"] + [f"speed [m/s] at {x}" for x in settings] \
+    cols = ["gait", "terrain", "f [Hz]"] + [f"speed [m/s] at {x}" for x in settings] \
         + [f"turned over at {x}" for x in settings] \
         + [f"speed change [%] at {x} (upper end)" for x in settings[1:]] \
         + [f"paw-force fluctuation change at {x}" for x in settings[1:]]
@@ -272,7 +273,8 @@ def puppy_convergence_table(results: dict) -> Table:
     rows = []
     for c in range(int(ds.sizes["case"])):
         d = ds.isel(case=c)
-        rows.append([str(d["case_gait"].values), str(d["case_terrain"].values),
+        freq = fmt(float(d["case_frequency"]), 3) if "case_frequency" in d.coords else "—"
+        rows.append([str(d["case_gait"].values), str(d["case_terrain"].values), freq,
                      *[fmt(float(v), 3) for v in d["case_speed"].values],
                      *[f"{100 * float(v):.0f} %" for v in d["fall_rate"].values],
                      *[f"{_pct(v)} (<= {_pct(u)})" if np.isfinite(float(v)) else
@@ -286,12 +288,12 @@ def puppy_convergence_table(results: dict) -> Table:
         f"<= {_pct(ds['fall_rate_change_upper'].sel(refined=r), 1)})"
         for r in ds["refined"].values)
     return Table(id="puppy_convergence", title=title, thesis_ref=ref, columns=cols, rows=rows,
-                 note=f"Overall: {ds.attrs.get('verdict', '?')}; {verdicts}. Each cell's "
-                      f"trials ({ds.attrs.get('trials_per_cell')} per frequency, "
+                 note=f"Overall: {ds.attrs.get('verdict', '?')}; {verdicts}. Each case's "
+                      f"trials ({ds.attrs.get('trials_per_cell')} per cell and frequency, "
                       f"{ds.attrs.get('samples')} samples at 50 Hz) from the same starts, "
                       "jitter and noise at every setting; speed over the ground from the "
                       "camera, over the trials that did not turn over. "
-                      + _rule_note(ds, "cell") + " The paw forces are shown, not decided.")
+                      + _rule_note(ds, "case") + " The paw forces are shown, not decided.")
 
 
 def tables(results: dict) -> list[Table]:

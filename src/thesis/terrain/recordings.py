@@ -102,13 +102,18 @@ class Recordings:
 
 def trial_table(cfg: dict, rng: np.random.Generator) -> list[dict]:
     """The trials to simulate (their planned lengths): Tab. 5.1's counts (at most ``max_trials_per_cell`` per
-    cell when set), each with its length drawn uniformly from the terrain's range."""
+    cell when set; exactly ``trials_per_frequency`` per non-empty cell when set), each with
+    its length drawn uniformly from the terrain's range."""
     cap = cfg["recordings"].get("max_trials_per_cell")
+    exact = cfg["recordings"].get("trials_per_frequency")
     lengths = cfg["recordings"]["samples"]
     out = []
     for (gait, terrain), counts in TAB5_1.items():
         for f, n in zip(FREQUENCIES, counts):
-            n = n if cap is None else min(n, int(cap))
+            if exact is not None:
+                n = int(exact) if n else 0
+            elif cap is not None:
+                n = min(n, int(cap))
             lo, hi = lengths.get(terrain) or lengths["default"]
             for _ in range(n):
                 out.append(dict(gait=gait, terrain=terrain, frequency=f,
