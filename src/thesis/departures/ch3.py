@@ -30,7 +30,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
              "segment lengths, hip and knee drive stiffness and foot friction are assumed, "
              "each with its reason in thesis.physics.models.oncilla; the time step and the "
-             "solver sweeps (ch3.model) are the converged setting of the sweep ladder, and "
+             "solver sweeps (ch3.model) are the sweep ladder's setting (not converged on the "
+             "spline and Tab. 4.2 gaits: model/convergence), and "
              "the knee spring is fitted (ch3.knee_spring_fitted). The hind "
              "legs are the fore legs scaled to a 182 mm reach (the hind feet of Tab. "
              "4.2-4.4's optima reach 181.9 mm from the hip) with 2200/1850 of their knee "
@@ -55,7 +56,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "report's model section. A claim whose thesis number is that speed is marked "
              "as resting on a calibration target.",
         why="The spring sets the stance compression that makes the robot walk below the "
-            "feet's theoretical speed; with the converged solver and the former, assumed "
+            "feet's theoretical speed; with the sweep ladder's solver and the former, assumed "
             "10 N m/rad the model walked Tab. 3.1a at its theoretical speed, 1.6x the "
             "robot's.",
         config=("ch3.model.knee_spring",),

@@ -18,7 +18,7 @@ DEPARTURES: tuple[Departure, ...] = (
                "treadmill that servos its speed to keep the robot centred, with an assistant "
                "beside it; no simulation model is used.",
         ours="The simulated Oncilla of chapters 3 and 4 (thesis.physics.models.oncilla: its "
-             "constraint softness, the converged solver sweeps and the knee spring fitted "
+             "constraint softness, the sweep ladder's solver sweeps and the knee spring fitted "
              "to Tab. 3.1a's speed, ch3.knee_spring_fitted) at chapter 6's own time step, "
              "walking on an open flat floor: no treadmill, no tether, nobody catching a "
              "fall.",
@@ -33,7 +33,7 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="§6.4: the teacher is a stable trot from previous work at a stated frequency and "
                "speed; its parameters are not printed.",
         ours="Fixed teachers (ch6.teacher.fixed): chapter 3's spline loci from its default "
-             "run on the converged, calibrated model under the pinned arithmetic, at the "
+             "run on the calibrated model of chapters 3 and 4 under the pinned arithmetic, at the "
              "thesis's frequency: the trot seed 0's optimum at 0.75 of its stride, the walk "
              "seed 1's at its full stride, the two that a screen of chapter 3's optima "
              "(every family, seed and stride scale, through the whole protocol including "

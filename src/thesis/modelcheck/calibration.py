@@ -5,7 +5,7 @@ Calibration is kept apart from validation. Only a value that no source gives may
 fitted, and only to V1 (:mod:`thesis.modelcheck.targets`); V2-V6 check the result and
 nothing is changed after seeing them. The procedure, fixed before any calibration run:
 
-* **Physics**: the model's converged setting (``ch4.model``: dt 2.5 ms, 120 solver sweeps;
+* **Physics**: the model's chapter setting (``ch4.model``: dt 2.5 ms, 120 solver sweeps;
   below). The spring is varied on exactly that model.
 * **Fitted value**: the knee's extension spring ``knee_spring`` [N m/rad] (preload
   unchanged). No source gives it (FACTS §5, the model's docstring); it sets the stance
@@ -20,7 +20,7 @@ nothing is changed after seeing them. The procedure, fixed before any calibratio
   log k between the two neighbouring grid points that bracket the target; where none
   bracket it, the grid point nearest the target (recorded as outside the grid).
 * **Residual**: one more run at the fitted value; |its speed - target|.
-* Then V2-V6 once (``model/validation``) on the fitted value at the converged setting.
+* Then V2-V6 once (``model/validation``) on the fitted value at that setting.
 
 The fitted value is what ``ch3.model.knee_spring`` and ``ch4.model.knee_spring`` hold
 (config/schema.yaml); the dataset records the configured value beside the fit, and
@@ -33,7 +33,8 @@ spring of 10 N m/rad): Tab. 3.1a walked 0.026-0.045 / 0.24-0.30 m/s at 0.5 / 1.5
 30 sweeps, 0.142 / 0.449 with 120, 0.147 / 0.454 with 240, and 0.149 / 0.457 with 120
 sweeps at dt / 2: from 120 sweeps on the speeds move by at most 5 % and the starts no
 longer differ; at 30 the feet slip and the speeds are 3-5x lower. ``model/convergence``
-checks the chosen setting on every published gait.
+checks the chosen setting on every published gait (three-valued, 30 starts: converged on
+Tab. 3.1a's half ellipse, not converged on the spline and Tab. 4.2's optimum).
 """
 
 from __future__ import annotations
