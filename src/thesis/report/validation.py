@@ -282,8 +282,10 @@ def puppy_convergence_table(results: dict) -> Table:
                        for v, u in zip(d["speed_change"].values,
                                        d["speed_change_upper"].values)],
                      *[f"{100 * float(v):.1f} %" for v in d["touch_change"].values]])
+    tol = float(ds.attrs.get("speed_tolerance", 0.1))
     verdicts = "; ".join(
-        f"{r}: {ds['verdict'].sel(refined=r).values} (fall rate "
+        f"{r}: {ds['verdict'].sel(refined=r).values} (speeds moved beyond the tolerance "
+        f"(Bonferroni lower end): {_verdict_cells(ds.sel(refined=r), tol)[0]}; fall rate "
         f"{_pct(ds['fall_rate_change'].sel(refined=r), 1)} points, "
         f"<= {_pct(ds['fall_rate_change_upper'].sel(refined=r), 1)})"
         for r in ds["refined"].values)
