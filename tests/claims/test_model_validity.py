@@ -56,6 +56,20 @@ def test_a_model_not_converged_in_dt_is_unvalidated_an_inconclusive_table_is_not
     assert MV.flag(["ch6/trot"], only_conv)["model_validation"]["unvalidated"]
 
 
+def test_chapter5_claims_are_flagged_by_the_puppy_s_convergence_table():
+    bad = {"model/puppy_convergence": _convergence(["not converged", "not converged"]),
+           "model/validation": _validation([0] * 6)}
+    f = MV.flag(["ch5/table5_3"], bad)["model_validation"]
+    assert f["unvalidated"] and [x["target"] for x in f["failed_targets"]] \
+        == ["Puppy II convergence"]  # the Oncilla's targets are not chapter 5's
+    assert "thesis validate puppy" in MV.text({"model_validation": f})
+    unsure = {"model/puppy_convergence": _convergence(["inconclusive", "converged"])}
+    assert MV.flag(["ch5/table5_3"], unsure) == {"model_validation": {
+        "unvalidated": False, "failed_targets": []}}
+    assert MV.flag(["ch5/table5_3"], {}) == {}
+    assert MV.flag(["ch7/ball"], bad) == {}
+
+
 def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
     results = {"model/validation": _validation([0, 1, 1, 1, 1, 1])}
     oncilla = [c for c in CLAIMS if MV.rests_on_oncilla(c.requires)]

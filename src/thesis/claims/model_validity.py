@@ -14,7 +14,10 @@ listed for each of them. A model whose convergence table (``model/convergence``,
 either: its speeds and falls change with the time step or the solver sweeps, so the
 table's failed settings are listed beside the failed targets (as "convergence"). An
 inconclusive table flags nothing; a table written before the three-valued rule (no
-``verdict``) is not read.
+``verdict``) is not read. Chapter 5's claims rest on the simulated Puppy II's recordings
+(``requires`` under ``ch5/``): where its convergence table (``model/puppy_convergence``,
+:mod:`thesis.modelcheck.puppy_convergence`) decides "not converged", they carry the same
+flag with that table as the failed target ("Puppy II convergence").
 
 Claims on a calibration target (issue 53 item 4). The knee spring is fitted to V1, Tab.
 3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
@@ -37,6 +40,10 @@ ONCILLA_RESULTS = ("ch3/", "ch4/", "ch6/")
 UNVALIDATED = "decided on an unvalidated model"
 #: Result key of the Oncilla's convergence table.
 CONVERGENCE_KEY = "model/convergence"
+#: Result key of the Puppy II's convergence table.
+PUPPY_CONVERGENCE_KEY = "model/puppy_convergence"
+#: Result prefixes of the chapter decided on the simulated Puppy II.
+PUPPY_RESULTS = ("ch5/",)
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
 #: Reading shown beside a verdict whose thesis number is the calibration's target.
@@ -49,7 +56,7 @@ def failed_targets(results: Mapping) -> list[dict] | None:
     :func:`convergence_failure`'s entry where the convergence table decided "not
     converged"; None when neither was run (then nothing is flagged)."""
     ds = results.get(VALIDATION_KEY)
-    conv = convergence_failure(results)
+    conv = convergence_failure(results, CONVERGENCE_KEY, "convergence")
     if ds is None and conv is None:
         return None
     failed = [] if ds is None else [
@@ -59,11 +66,12 @@ def failed_targets(results: Mapping) -> list[dict] | None:
     return failed + ([conv] if conv and conv["failed"] else [])
 
 
-def convergence_failure(results: Mapping) -> dict | None:
-    """The convergence table's verdict as a target entry: ``{"target": "convergence",
-    "failed": bool, "text": <the settings not converged and their fall-rate changes>}``;
-    None when the table was not run or predates the three-valued rule."""
-    ds = results.get(CONVERGENCE_KEY)
+def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
+    """The verdict of the convergence table ``results[key]`` as a target entry:
+    ``{"target": target, "failed": bool, "text": <each setting's verdict, fall-rate change
+    and largest speed change>}``; None when the table was not run or predates the
+    three-valued rule."""
+    ds = results.get(key)
     if ds is None or "verdict" not in ds:
         return None
     bad = [str(r) for r, v in zip(ds["refined"].values, ds["verdict"].values)
@@ -73,7 +81,7 @@ def convergence_failure(results: Mapping) -> dict | None:
         f"{100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points, largest speed "
         f"change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %)"
         for r in ds["refined"].values)
-    return {"target": "convergence", "failed": bool(bad), "text": text}
+    return {"target": target, "failed": bool(bad), "text": text}
 
 
 def rests_on_oncilla(requires: Iterable[str]) -> bool:
@@ -101,9 +109,20 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     where the claim rests on the Oncilla and a validation target failed; or
     ``unvalidated`` False with no failed target where the validation passed; and
     ``calibration_target`` (:func:`calibration_mark`) where its thesis numbers include
-    the calibration's target. A claim that was not decided (``status`` ``"not_run"``)
-    gains nothing."""
-    if status == "not_run" or not rests_on_oncilla(requires):
+    the calibration's target. A claim on chapter 5's recordings gains ``model_validation``
+    from the Puppy II's convergence table alone. A claim that was not decided (``status``
+    ``"not_run"``) gains nothing."""
+    if status == "not_run":
+        return {}
+    if any(str(r).startswith(PUPPY_RESULTS) for r in requires) \
+            and not rests_on_oncilla(requires):
+        conv = convergence_failure(results, PUPPY_CONVERGENCE_KEY, "Puppy II convergence")
+        if conv is None:
+            return {}
+        failed = [conv] if conv["failed"] else []
+        return {"model_validation": {"unvalidated": bool(failed), "failed_targets": failed,
+                                     **({"reading": UNVALIDATED} if failed else {})}}
+    if not rests_on_oncilla(requires):
         return {}
     out = {}
     mark = calibration_mark(paper_keys, results)
@@ -127,7 +146,8 @@ def text(claim: Mapping) -> str:
     mv = claim.get("model_validation") or {}
     if mv.get("unvalidated"):
         names = ", ".join(f["target"] for f in mv.get("failed_targets", []))
-        parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate oncilla)")
+        robot = "puppy" if names == "Puppy II convergence" else "oncilla"
+        parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate {robot})")
     ct = claim.get("calibration_target")
     if ct:
         parts.append(f"{CALIBRATION_TARGET} (V1, Tab. 3.1a's speed: the knee spring was "
