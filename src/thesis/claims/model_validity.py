@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
+from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck.targets import V1_PAPER_KEYS
 
 #: Result key of the Oncilla's validation.
@@ -44,6 +45,8 @@ CONVERGENCE_KEY = "model/convergence"
 PUPPY_CONVERGENCE_KEY = "model/puppy_convergence"
 #: Result prefixes of the chapter decided on the simulated Puppy II.
 PUPPY_RESULTS = ("ch5/",)
+#: Failed-target name of the Puppy II's convergence table.
+PUPPY_TARGET = "Puppy II convergence"
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
 #: Reading shown beside a verdict whose thesis number is the calibration's target.
@@ -74,14 +77,13 @@ def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
     ds = results.get(key)
     if ds is None or "verdict" not in ds:
         return None
-    bad = [str(r) for r, v in zip(ds["refined"].values, ds["verdict"].values)
-           if str(v) == "not converged"]
     text = "; ".join(
         f"{r}: {ds['verdict'].sel(refined=r).values} (fall rate "
         f"{100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points, largest speed "
         f"change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %)"
         for r in ds["refined"].values)
-    return {"target": target, "failed": bool(bad), "text": text}
+    return {"target": target, "failed": CR.overall(ds["verdict"].values) == CR.NOT_CONVERGED,
+            "text": text}
 
 
 def rests_on_oncilla(requires: Iterable[str]) -> bool:
@@ -116,12 +118,9 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
         return {}
     if any(str(r).startswith(PUPPY_RESULTS) for r in requires) \
             and not rests_on_oncilla(requires):
-        conv = convergence_failure(results, PUPPY_CONVERGENCE_KEY, "Puppy II convergence")
-        if conv is None:
-            return {}
-        failed = [conv] if conv["failed"] else []
-        return {"model_validation": {"unvalidated": bool(failed), "failed_targets": failed,
-                                     **({"reading": UNVALIDATED} if failed else {})}}
+        conv = convergence_failure(results, PUPPY_CONVERGENCE_KEY, PUPPY_TARGET)
+        return {} if conv is None else {
+            "model_validation": _record([conv] if conv["failed"] else [])}
     if not rests_on_oncilla(requires):
         return {}
     out = {}
@@ -131,12 +130,16 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     failed = failed_targets(results)
     if failed is None:
         return out
-    if not failed:
-        out["model_validation"] = {"unvalidated": False, "failed_targets": []}
-    else:
-        out["model_validation"] = {"unvalidated": True, "reading": UNVALIDATED,
-                                   "failed_targets": failed}
+    out["model_validation"] = _record(failed)
     return out
+
+
+def _record(failed: list[dict]) -> dict:
+    """``model_validation`` of a claim: unvalidated (with :data:`UNVALIDATED`) when any
+    target failed, else a passed validation with no failed target."""
+    if not failed:
+        return {"unvalidated": False, "failed_targets": []}
+    return {"unvalidated": True, "reading": UNVALIDATED, "failed_targets": failed}
 
 
 def text(claim: Mapping) -> str:
@@ -146,7 +149,8 @@ def text(claim: Mapping) -> str:
     mv = claim.get("model_validation") or {}
     if mv.get("unvalidated"):
         names = ", ".join(f["target"] for f in mv.get("failed_targets", []))
-        robot = "puppy" if names == "Puppy II convergence" else "oncilla"
+        puppy = any(f["target"] == PUPPY_TARGET for f in mv.get("failed_targets", []))
+        robot = "puppy" if puppy else "oncilla"
         parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate {robot})")
     ct = claim.get("calibration_target")
     if ct:

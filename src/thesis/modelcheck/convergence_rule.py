@@ -146,6 +146,15 @@ def decide(r, se_r, defined_one_only, d: float, se_d: float, *,
                 fall_lower_k=float(fall_lower_k))
 
 
+def overall(verdicts) -> str:
+    """The table's verdict over its refined settings: not converged if any is, converged
+    if all are, else inconclusive."""
+    v = [str(x) for x in verdicts]
+    if NOT_CONVERGED in v:
+        return NOT_CONVERGED
+    return CONVERGED if v and all(x == CONVERGED for x in v) else INCONCLUSIVE
+
+
 def compare_runs(speeds, fells, case, n_cases: int, *, speed_tol: float = SPEED_TOLERANCE,
                  fall_tol: float = FALL_TOLERANCE, alpha: float = ALPHA) -> dict:
     """Every refined setting against the first, from the runs.

@@ -441,11 +441,8 @@ def _nanmax_rows(x) -> np.ndarray:
 
 def verdict_attrs(verdicts) -> dict:
     """The attributes every convergence table records about its rule and its verdict."""
-    v = [str(x) for x in verdicts]
-    overall = CR.NOT_CONVERGED if CR.NOT_CONVERGED in v else \
-        CR.CONVERGED if all(x == CR.CONVERGED for x in v) else CR.INCONCLUSIVE
     return dict(speed_tolerance=CR.SPEED_TOLERANCE, fall_tolerance=CR.FALL_TOLERANCE,
-                alpha=CR.ALPHA, min_up_runs=CR.MIN_UP_RUNS, verdict=overall)
+                alpha=CR.ALPHA, min_up_runs=CR.MIN_UP_RUNS, verdict=CR.overall(verdicts))
 
 
 def convergence(ctx) -> xr.Dataset:
