@@ -93,6 +93,30 @@ def test_reach_inside_and_outside():
     assert np.isnan(V.reach("sine", np.zeros(13))).all()
 
 
+def test_stance_at_stops_counts_the_stance_samples_on_each_stop():
+    model, _ = C.base_model(load_config("smoke")["ch4"])
+    hi = np.asarray(model.limit_hi, np.float64)
+    lim = list(np.asarray(model.limit_dof))
+    knee = model.dof("LF_knee:0")
+    cable = model.dof("RH_cable:0")
+    q = np.zeros((2, 10, model.n_dof))
+    # run 0: LF's knee motor on its stop in samples 0-3, 0.02 rad short of it in 4-9
+    q[0, :4, knee] = hi[lim.index(knee)]
+    q[0, 4:, knee] = hi[lim.index(knee)] - 0.02
+    # run 1: RH's cable beyond its stop throughout (taut and stretched)
+    q[1, :, cable] = hi[lim.index(cable)] + 0.005
+    stance = np.ones((2, 10, 4), bool)
+    stance[0, 2:4, 0] = False        # two of LF's on-stop samples are swing: not counted
+    stance[1, :, 1] = False          # RF never in stance: NaN
+    out = V.stance_at_stops(model, q, stance)
+    assert set(out) == set(V.STOPS)
+    np.testing.assert_allclose(out["knee_stop"][0, 0], 2 / 8)
+    assert out["knee_stop"][0, 2] == 0.0 and out["cable_taut"][1, 3] == 1.0
+    assert np.isnan(out["knee_stop"][1, 1]) and np.isnan(out["cable_taut"][1, 1])
+    # the build pose (all coordinates 0) has the cable taut and the knee motor off its stop
+    assert np.all(out["cable_taut"][0] == 1.0) and out["knee_stop"][1, 0] == 0.0
+
+
 @pytest.fixture(scope="module")
 def tiny():
     config = load_config("smoke", overrides={"physics": {"oncilla_validation": dict(
@@ -111,12 +135,17 @@ def test_validation_writes_every_quantity_and_decides_every_target(tiny):
     assert ds.sizes["case"] == n_cases and ds.sizes["start"] == 2
     for name in ("speed", "fallen", "roll_max", "pitch_max", "stance_compression",
                  "scapula_max_deviation", "reach_outside", "target_passed", "target_text",
-                 "V1_speed_1p5Hz", "V3_falls"):
+                 "V1_speed_1p5Hz", "V3_falls", "stance_knee_stop", "stance_cable_taut"):
         assert name in ds and "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
+    up = ds["fallen"].values == 0
+    shares = ds["stance_cable_taut"].values[up]
+    assert ds["stance_knee_stop"].dims == ("case", "start", "leg")
+    # a leg without stance in the 0.3-s window has no share (NaN); the others lie in [0, 1]
+    assert np.isfinite(shares).any()
+    assert np.all((shares[np.isfinite(shares)] >= 0) & (shares[np.isfinite(shares)] <= 1))
     assert list(ds["target"].values) == list(TG.TARGETS)
     assert set(np.unique(ds["target_passed"].values)) <= {0, 1}
     assert int(ds["V3_falls"]) == int(ds["fallen"].sum())
-    up = ds["fallen"].values == 0
     # an upright trot's legs carry the robot: stance length within 3 cm of the command
     assert np.all(np.abs(ds["stance_compression"].values[up]) < 0.03)
     assert np.all(ds["scapula_max_deviation"].values[up] >= 0)
@@ -163,7 +192,10 @@ def test_convergence_table_end_to_end_on_a_tiny_configuration():
     assert len(t.rows) == 3 and t.rows[0][4] == "(reference)"
     assert t.rows[1][6] in {"converged", "not converged", "inconclusive"}
     assert "3 perturbed starts" in t.note and "inconclusive" in t.note
-    assert RV.convergence_cases_table({"model/convergence": ds}).rows[0][0] == "tab3_1a"
+    cases = RV.convergence_cases_table({"model/convergence": ds})
+    assert cases.rows[0][0] == "tab3_1a"
+    assert ds["stance_cable_taut"].dims == ("setting", "case", "leg")
+    assert cases.rows[0][-1].startswith("knee stop ") and "cable taut" in cases.rows[0][-1]
 
 
 def test_validate_verb_refuses_what_it_cannot_do():

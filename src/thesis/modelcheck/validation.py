@@ -18,8 +18,10 @@ Measured per run (window samples before the first fall, :func:`measure`): mean f
 speed, fall (the ch3/ch4 criterion, any time from the start), largest roll and pitch of
 the trunk, stance compression (the commanded hip-to-toe length in stance, by forward
 kinematics of the commanded joint angles, minus the simulated one; stance = the leg's
-commanded phase inside its duty), and the scapulae's largest deviation from their
-commands. Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is recorded inside
+commanded phase inside its duty), the scapulae's largest deviation from their
+commands, and per leg the share of its stance spent on the knee motor's extension stop or
+with the cable taut (:func:`stance_at_stops`: where the stiff limit rows, not the knee's
+spring, carry the leg). Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is recorded inside
 or outside the model's reach (:func:`reach`). V1-V6 are decided on these numbers
 (:func:`thesis.modelcheck.targets.decide`).
 
@@ -30,7 +32,8 @@ model's dt, at dt / 2, and at dt with twice the solver sweeps (the physical soft
 The speeds must move by at most 10 % and the fall rate by at most 5 percentage points
 (issue 53 item 1), decided three-valued on intervals that carry the starts' sampling
 spread (:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
-inconclusive.
+inconclusive. Beside them, each setting records the legs' stance on the stops, so that the
+table shows whether the cases that move are those whose legs the stop rows carry.
 """
 
 from __future__ import annotations
@@ -130,8 +133,9 @@ def measure(model, state, family, params, kicks, *, settle: float, seconds: floa
         |angle| in the window while up), ``compression`` [m] (mean commanded minus
         simulated hip-to-toe length in stance while up), ``length_commanded`` [m],
         ``scapula_max_dev`` [rad] (largest |scapula - command| in the window while up),
-        ``scapula_min``, ``scapula_max`` [rad] (scapula angle range in the window); and
-        ``wall`` [s].
+        ``scapula_min``, ``scapula_max`` [rad] (scapula angle range in the window);
+        (N, S, 4) per leg, the share of its stance samples while up on a stop
+        (:func:`stance_at_stops`: ``knee_stop``, ``cable_taut``); and ``wall`` [s].
     """
     params = np.asarray(params, np.float64)
     n, s = len(params), len(kicks)
@@ -177,7 +181,50 @@ def measure(model, state, family, params, kicks, *, settle: float, seconds: floa
                length_commanded=lcmd, scapula_max_dev=wmax(dev), scapula_min=s_min,
                scapula_max=s_max)
     out = {k: np.asarray(v).reshape(n, s) for k, v in out.items()}
+    for k, v in stance_at_stops(model, sim["q"], stance).items():
+        out[k] = v.reshape(n, s, len(L.LEGS))
     out["wall"] = sim["wall"]
+    return out
+
+
+#: Angle [rad] within which a joint counts as on its stop (:func:`stance_at_stops`).
+STOP_TOLERANCE = 0.01
+#: The stops of :func:`stance_at_stops`: record name -> (joint of each leg, its stop).
+STOPS = {"knee_stop": ("knee", "extension stop of the knee motor (femur-drum hinge)"),
+         "cable_taut": ("cable", "taut cable (drum-tibia hinge on its opening stop)")}
+
+
+def stance_at_stops(model, q, stance) -> dict:
+    """Share of each leg's stance samples in which a joint sits on its upper stop: the
+    knee motor's drum on its extension stop (``knee_stop``) and the cable taut
+    (``cable_taut``: the tibia opened as far as the cable lets it, so the leg carries its
+    load on the stop rows rather than on the knee's extension spring; §3.2.1, Fig. 3.1b).
+
+    Legs whose stance targets lie beyond reach are commanded onto the extension stop
+    (:func:`thesis.gaits.leg.inverse` projects them there), and a straight leg under
+    the body's weight is held by those stiff rows; the convergence table records where
+    that happens at each dt and sweep count.
+
+    Args:
+        model: the Oncilla; q: (R, K, n_dof) joint coordinates [rad] of
+            :func:`thesis.modelcheck.checks.simulate_runs`; stance: (R, K, 4) bool, the
+            samples counted (a leg's commanded stance while the robot is up).
+
+    Returns:
+        {name: (R, 4) fraction of the leg's counted samples within
+        :data:`STOP_TOLERANCE` of (or beyond) the stop, NaN without any} per
+        :data:`STOPS` name, legs in LEGS order.
+    """
+    lim_dof = np.asarray(model.limit_dof)
+    hi = np.asarray(model.limit_hi, np.float64)
+    cnt = stance.sum(1)
+    out = {}
+    for name, (joint, _) in STOPS.items():
+        dofs = [model.dof(f"{leg}_{joint}:0") for leg in L.LEGS]
+        top = np.array([hi[np.flatnonzero(lim_dof == d)[0]] for d in dofs])
+        on = np.asarray(q[..., dofs], np.float64) >= top - STOP_TOLERANCE
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out[name] = np.where(cnt > 0, (on & stance).sum(1) / np.maximum(cnt, 1), np.nan)
     return out
 
 
@@ -331,6 +378,8 @@ def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
         theoretical_speed=(("case",), np.array([theory[k] for k in keys]), _a(
             "m s-1", "theoretical speed 2 a f / duty (Fig. 3.4)")),
         case_falls=(("case",), m["fallen"].sum(1).astype(np.int64), _a("1", "fallen starts")),
+        **_stop_variables(("case", "start", "leg"), m,
+                          "share of the leg's stance samples while up"),
     )
     with np.errstate(invalid="ignore", divide="ignore"):
         data["speed_share"] = (("case",), data["case_speed"][1] / data["theoretical_speed"][1],
@@ -367,6 +416,13 @@ def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
                             ("published_family", "gait family of the published gait")):
         ds[name].attrs.update(units="1", long_name=long_name)
     return ds
+
+
+def _stop_variables(dims: tuple, m: dict, share: str) -> dict:
+    """The :data:`STOPS` records of ``m`` as dataset variables ``stance_<name>``."""
+    return {f"stance_{k}": (dims, np.asarray(m[k]), _a(
+                "1", f"{share} with the {what} (within {STOP_TOLERANCE} rad)"))
+            for k, (_, what) in STOPS.items()}
 
 
 def settings_variables(speeds, fells, case, n_cases: int, dts, sweeps,
@@ -453,6 +509,7 @@ def convergence(ctx) -> xr.Dataset:
     cs = cases(cfg)
     kicks = start_kicks(ctx.root_seed, cfg["convergence_starts"], cfg["start_velocity"])
     speeds, fells, scap, walls, dts, sweeps = [], [], [], [], [], []
+    stops = {k: [] for k in STOPS}
     for name, fdt, fsw in SETTINGS:
         model, state = _model(full["ch4"], fdt, fsw)
         m = measure_cases(model, state, cs, kicks, settle=settle,
@@ -464,6 +521,8 @@ def convergence(ctx) -> xr.Dataset:
         with warnings.catch_warnings():  # a case whose every start fell: NaN
             warnings.simplefilter("ignore", RuntimeWarning)
             scap.append(np.nanmax(m["scapula_max_dev"], axis=1))
+            for k in STOPS:
+                stops[k].append(np.nanmean(m[k], axis=1))
         walls.append(m["wall"])
         dts.append(float(model.dt))
         sweeps.append(int(model.solver_iterations))
@@ -472,8 +531,12 @@ def convergence(ctx) -> xr.Dataset:
                                         dts, sweeps, walls)
     data["scapula_max_deviation"] = (("setting", "case"), np.asarray(scap), _a(
         "rad", "largest scapula deviation from its command in the window while up"))
+    data.update(_stop_variables(("setting", "case", "leg"), stops,
+                                "mean over the starts of the share of the leg's stance "
+                                "samples while up"))
     coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
-                  case=np.arange(len(cs)), case_gait=("case", [c["gait"] for c in cs]),
+                  case=np.arange(len(cs)), leg=list(L.LEGS),
+                  case_gait=("case", [c["gait"] for c in cs]),
                   case_frequency=("case", np.array([c["frequency"] for c in cs])))
     ds = xr.Dataset(data, coords=coords)
     ds["case_frequency"].attrs.update(units="Hz", long_name="gait frequency of the case")

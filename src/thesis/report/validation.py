@@ -29,6 +29,25 @@ def _deg(x) -> str:
     return "—" if not np.isfinite(x) else f"{math.degrees(x):.1f}"
 
 
+#: The stop records of the datasets (thesis.modelcheck.validation.STOPS) and their labels.
+STOP_LABELS = (("stance_knee_stop", "knee stop"), ("stance_cable_taut", "cable taut"))
+
+
+def _stops_cell(d) -> str:
+    """The share of stance on each stop, fore / hind pair [%] (mean over the pair's legs
+    and the other dimensions of ``d``), or — for a dataset without the record."""
+    parts = []
+    for var, label in STOP_LABELS:
+        if var not in d:
+            return "—"
+        x = d[var]
+        pair = [x.sel(leg=[g for g in x["leg"].values if str(g).endswith(end)]).values
+                for end in ("F", "H")]
+        vals = [np.nanmean(v) if np.isfinite(v).any() else np.nan for v in pair]
+        parts.append(f"{label} {_pct(vals[0])} / {_pct(vals[1])}")
+    return "; ".join(parts)
+
+
 def targets_table(results: dict) -> Table:
     """V1-V6: passed or failed, with the numbers beside the bounds."""
     ds = results.get(VALIDATION)
@@ -57,7 +76,7 @@ def cases_table(results: dict) -> Table:
     ds = results.get(VALIDATION)
     cols = ["gait", "f [Hz]", "theory [m/s]", "speed [m/s] (starts)", "share of theory",
             "fallen", "stance compression [mm]", "max |roll| [deg]", "max |pitch| [deg]",
-            "max scapula error [deg]"]
+            "max scapula error [deg]", "stance on a stop, fore / hind [%]"]
     if ds is None:
         return Table(id="oncilla_validation_cases", title="Published gaits on the model",
                      thesis_ref="Tab. 3.1, Fig. 3.4", columns=cols,
@@ -78,12 +97,16 @@ def cases_table(results: dict) -> Table:
                      _deg(np.nanmax(d["pitch_max"].values)
                           if np.isfinite(d["pitch_max"].values).any() else np.nan),
                      _deg(np.nanmax(d["scapula_max_deviation"].values)
-                          if np.isfinite(d["scapula_max_deviation"].values).any() else np.nan)])
+                          if np.isfinite(d["scapula_max_deviation"].values).any() else np.nan),
+                     _stops_cell(d)])
     return Table(id="oncilla_validation_cases", title="Published gaits on the model",
                  thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2", columns=cols, rows=rows,
                  note="speed: mean over the starts that stayed up (— when fewer than half "
                       "did), each start's in brackets; stance compression: commanded minus "
-                      "simulated hip-to-toe length in stance; angles while up in the window.")
+                      "simulated hip-to-toe length in stance; angles while up in the window; "
+                      "stance on a stop: share of the legs' stance samples with the knee "
+                      "motor on its extension stop, and with the cable taut (the leg held "
+                      "by the stop rows, not by the knee's spring).")
 
 
 def reach_table(results: dict) -> Table:
@@ -195,7 +218,8 @@ def convergence_cases_table(results: dict) -> Table:
     settings = [] if ds is None else [str(s) for s in ds["setting"].values]
     cols = ["gait", "f [Hz]"] + [f"speed [m/s] at {s}" for s in settings] \
         + [f"fallen at {s}" for s in settings] + [f"max scapula error [deg] at {s}"
-                                                   for s in settings]
+                                                   for s in settings] \
+        + [f"stance on a stop, fore / hind [%] at {s}" for s in settings]
     if ds is None:
         return Table(id="oncilla_convergence_cases", title="Convergence per case",
                      thesis_ref="—", columns=["—"], rows=[[NOT_RUN]])
@@ -205,13 +229,15 @@ def convergence_cases_table(results: dict) -> Table:
         rows.append([str(d["case_gait"].values), fmt(float(d["case_frequency"]), 3),
                      *[fmt(float(v), 3) for v in d["case_speed"].values],
                      *[f"{100 * float(v):.0f} %" for v in d["fall_rate"].values],
-                     *[_deg(v) for v in d["scapula_max_deviation"].values]])
+                     *[_deg(v) for v in d["scapula_max_deviation"].values],
+                     *[_stops_cell(d.sel(setting=s)) for s in d["setting"].values]])
     return Table(id="oncilla_convergence_cases", title="Convergence of the validation per "
                  "gait and frequency", thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2",
                  columns=cols, rows=rows,
                  note="speed: mean over the starts that stayed up (nan: fewer than "
                       f"{ds.attrs.get('min_up_runs', '?')} did); the same perturbed starts "
-                      "at every setting.")
+                      "at every setting; stance on a stop: as in the published gaits' table, "
+                      "mean over the starts.")
 
 
 def calibration_table(results: dict) -> Table:
