@@ -21,8 +21,8 @@ kinematics of the commanded joint angles, minus the simulated one; stance = the 
 commanded phase inside its duty), the scapulae's largest deviation from their
 commands, and per leg the share of its stance spent on the knee motor's extension stop or
 with the cable taut (:func:`stance_at_stops`: where the stiff limit rows, not the knee's
-spring, carry the leg). Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is recorded inside
-or outside the model's reach (:func:`reach`). V1-V6 are decided on these numbers
+spring, carry the leg). Every published optimum's foot path (Tab. 3.1, Tab. 4.2-4.4) is
+recorded inside or outside the model's reach (:func:`reach`). V1-V6 are decided on these numbers
 (:func:`thesis.modelcheck.targets.decide`).
 
 ``model/convergence`` measures the same runs three times, from ``convergence_starts``
