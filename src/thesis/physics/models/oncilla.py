@@ -117,9 +117,11 @@ its reason; nothing is fitted to a result of the thesis):
   (1 / dt, 0.25 / dt) gave at the 2.5-ms step, kept so that chapters 3 and 4 do not move;
   halving dt or doubling the sweeps now simulates the same robot (the convergence table
   of ``thesis validate oncilla``). No source gives the real robot's values. The contact's
-  100 Hz on a toe row's effective mass (at most the 60-g foot segment: about 2e4 N/m) is
-  of the order of a Hertz contact of a 10-mm rubber sphere under half the robot's
-  weight. The table finds the half ellipse converged and the published gaits whose fore
+  100 Hz on a toe row's effective mass (at most the 60-g foot segment: at most 2.4e4
+  N/m) is of the order of our estimate for a Hertz contact of a 10-mm rubber sphere
+  under half the robot's weight (about 3e4 N/m with a Young's modulus of a few MPa, an
+  assumed generic rubber value: no source gives the toes' material); nothing was changed
+  or fitted on that estimate. The table finds the half ellipse converged and the published gaits whose fore
   legs rest on their extension stops in stance (``stance_knee_stop``,
   ``stance_cable_taut`` of the validation) not converged; those rows are 400-Hz rows
   that no step of the table resolves (2 pi 400 Hz x 2.5 ms = 6.3).
