@@ -121,10 +121,10 @@ its reason; nothing is fitted to a result of the thesis):
   N/m) is of the order of our estimate for a Hertz contact of a 10-mm rubber sphere
   under half the robot's weight (about 3e4 N/m with a Young's modulus of a few MPa, an
   assumed generic rubber value: no source gives the toes' material); nothing was changed
-  or fitted on that estimate. The table finds the half ellipse converged and the published gaits whose fore
-  legs rest on their extension stops in stance (``stance_knee_stop``,
-  ``stance_cable_taut`` of the validation) not converged; those rows are 400-Hz rows
-  that no step of the table resolves (2 pi 400 Hz x 2.5 ms = 6.3).
+  or fitted on that estimate. The table finds the half ellipse converged and the
+  published gaits whose fore legs rest on their extension stops in stance
+  (``stance_knee_stop``, ``stance_cable_taut`` of the validation) not converged; those
+  rows are 400-Hz rows that no step of the table resolves (2 pi 400 Hz x 2.5 ms = 6.3).
 * **Not revised** (the source gives them, the model does not have them yet): the foot
   plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
