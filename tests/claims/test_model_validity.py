@@ -41,7 +41,7 @@ def _convergence(verdicts):
         max_speed_change=(("refined",), np.array([0.5, 0.2]))), coords=dict(refined=refined))
 
 
-def test_a_model_not_converged_in_dt_is_unvalidated_an_inconclusive_table_is_not_read():
+def test_a_model_not_converged_in_dt_is_unvalidated_an_inconclusive_table_is_named():
     ok = {"model/validation": _validation([1] * 6)}
     bad = {**ok, "model/convergence": _convergence(["not converged", "inconclusive"])}
     f = MV.flag(["ch3/table3_1"], bad)["model_validation"]
@@ -49,7 +49,12 @@ def test_a_model_not_converged_in_dt_is_unvalidated_an_inconclusive_table_is_not
     assert "dt/2: not converged (fall rate 15.0 points" in f["failed_targets"][0]["text"]
     assert "failed: convergence;" in MV.text({"model_validation": f})
     unsure = {**ok, "model/convergence": _convergence(["inconclusive", "converged"])}
-    assert not MV.flag(["ch3/table3_1"], unsure)["model_validation"]["unvalidated"]
+    f = MV.flag(["ch3/table3_1"], unsure)["model_validation"]
+    assert not f["unvalidated"] and f["failed_targets"] == []
+    assert f["convergence_inconclusive"]["verdict"] == "inconclusive"
+    assert MV.text({"model_validation": f}).startswith(MV.INCONCLUSIVE_CONVERGENCE)
+    assert "thesis validate oncilla" in MV.text({"model_validation": f})
+    assert "convergence_inconclusive" not in MV.flag(["ch3/table3_1"], ok)["model_validation"]
     old_table = {**ok, "model/convergence": xr.Dataset(dict(converged=(("refined",), [0, 0])))}
     assert not MV.flag(["ch3/table3_1"], old_table)["model_validation"]["unvalidated"]
     only_conv = {"model/convergence": _convergence(["not converged", "converged"])}
@@ -63,9 +68,16 @@ def test_chapter5_claims_are_flagged_by_the_puppy_s_convergence_table():
     assert f["unvalidated"] and [x["target"] for x in f["failed_targets"]] \
         == ["Puppy II convergence"]  # the Oncilla's targets are not chapter 5's
     assert "thesis validate puppy" in MV.text({"model_validation": f})
+    assert "convergence_inconclusive" not in f
     unsure = {"model/puppy_convergence": _convergence(["inconclusive", "converged"])}
-    assert MV.flag(["ch5/table5_3"], unsure) == {"model_validation": {
+    f = MV.flag(["ch5/table5_3"], unsure)["model_validation"]
+    assert not f["unvalidated"] and f["failed_targets"] == []
+    assert f["convergence_inconclusive"]["target"] == "Puppy II convergence"
+    assert "thesis validate puppy" in MV.text({"model_validation": f})
+    converged = {"model/puppy_convergence": _convergence(["converged", "converged"])}
+    assert MV.flag(["ch5/table5_3"], converged) == {"model_validation": {
         "unvalidated": False, "failed_targets": []}}
+    assert MV.text(MV.flag(["ch5/table5_3"], converged)) == ""
     assert MV.flag(["ch5/table5_3"], {}) == {}
     assert MV.flag(["ch7/ball"], bad) == {}
 

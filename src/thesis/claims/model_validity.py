@@ -13,11 +13,14 @@ listed for each of them. A model whose convergence table (``model/convergence``,
 :mod:`thesis.modelcheck.convergence_rule`) decides "not converged" is not validated
 either: its speeds and falls change with the time step or the solver sweeps, so the
 table's failed settings are listed beside the failed targets (as "convergence"). An
-inconclusive table flags nothing; a table written before the three-valued rule (no
-``verdict``) is not read. Chapter 5's claims rest on the simulated Puppy II's recordings
-(``requires`` under ``ch5/``): where its convergence table (``model/puppy_convergence``,
+inconclusive table does not make a claim unvalidated, but it does not validate it either:
+the record names it (``convergence_inconclusive``) and the report says so beside the
+verdict. A table written before the three-valued rule (no ``verdict``) is not read.
+Chapter 5's claims rest on the simulated Puppy II's recordings (``requires`` under
+``ch5/``): where its convergence table (``model/puppy_convergence``,
 :mod:`thesis.modelcheck.puppy_convergence`) decides "not converged", they carry the same
-flag with that table as the failed target ("Puppy II convergence").
+flag with that table as the failed target ("Puppy II convergence"), and an inconclusive
+one is named as the Oncilla's is.
 
 Claims on a calibration target (issue 53 item 4). The knee spring is fitted to V1, Tab.
 3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
@@ -49,6 +52,8 @@ PUPPY_RESULTS = ("ch5/",)
 PUPPY_TARGET = "Puppy II convergence"
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
+#: Reading shown beside a verdict whose model's convergence table is inconclusive.
+INCONCLUSIVE_CONVERGENCE = "model's convergence in dt and sweeps not shown (inconclusive)"
 #: Reading shown beside a verdict whose thesis number is the calibration's target.
 CALIBRATION_TARGET = "its thesis number is a calibration target"
 
@@ -82,7 +87,8 @@ def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
         f"{100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points, largest speed "
         f"change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %)"
         for r in ds["refined"].values)
-    return {"target": target, "failed": CR.overall(ds["verdict"].values) == CR.NOT_CONVERGED,
+    verdict = CR.overall(ds["verdict"].values)
+    return {"target": target, "failed": verdict == CR.NOT_CONVERGED, "verdict": verdict,
             "text": text}
 
 
@@ -120,7 +126,7 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
             and not rests_on_oncilla(requires):
         conv = convergence_failure(results, PUPPY_CONVERGENCE_KEY, PUPPY_TARGET)
         return {} if conv is None else {
-            "model_validation": _record([conv] if conv["failed"] else [])}
+            "model_validation": _record([conv] if conv["failed"] else [], conv)}
     if not rests_on_oncilla(requires):
         return {}
     out = {}
@@ -130,16 +136,21 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     failed = failed_targets(results)
     if failed is None:
         return out
-    out["model_validation"] = _record(failed)
+    out["model_validation"] = _record(
+        failed, convergence_failure(results, CONVERGENCE_KEY, "convergence"))
     return out
 
 
-def _record(failed: list[dict]) -> dict:
+def _record(failed: list[dict], conv: dict | None = None) -> dict:
     """``model_validation`` of a claim: unvalidated (with :data:`UNVALIDATED`) when any
-    target failed, else a passed validation with no failed target."""
-    if not failed:
-        return {"unvalidated": False, "failed_targets": []}
-    return {"unvalidated": True, "reading": UNVALIDATED, "failed_targets": failed}
+    target failed, else a passed validation with no failed target; either gains
+    ``convergence_inconclusive`` (the table's target entry) when the convergence table
+    ``conv`` (:func:`convergence_failure`) is inconclusive."""
+    rec = {"unvalidated": False, "failed_targets": []} if not failed else {
+        "unvalidated": True, "reading": UNVALIDATED, "failed_targets": failed}
+    if conv is not None and conv["verdict"] == CR.INCONCLUSIVE:
+        rec["convergence_inconclusive"] = conv
+    return rec
 
 
 def text(claim: Mapping) -> str:
@@ -152,6 +163,10 @@ def text(claim: Mapping) -> str:
         puppy = any(f["target"] == PUPPY_TARGET for f in mv.get("failed_targets", []))
         robot = "puppy" if puppy else "oncilla"
         parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate {robot})")
+    unsure = mv.get("convergence_inconclusive")
+    if unsure:
+        robot = "puppy" if unsure["target"] == PUPPY_TARGET else "oncilla"
+        parts.append(f"{INCONCLUSIVE_CONVERGENCE} ({unsure['text']}; thesis validate {robot})")
     ct = claim.get("calibration_target")
     if ct:
         parts.append(f"{CALIBRATION_TARGET} (V1, Tab. 3.1a's speed: the knee spring was "
