@@ -48,8 +48,11 @@ def test_trial_speed_is_the_camera_displacement_over_the_trial_duration():
 
 @pytest.fixture(scope="module")
 def tiny():
-    config = load_config("smoke", overrides={"physics": {"puppy_convergence": dict(
-        samples=40)}})
+    # 30 sweeps instead of the chapter's 120: the table's layout and bookkeeping do not
+    # depend on them, and the three settings cost a quarter as much.
+    config = load_config("smoke", overrides={
+        "physics": {"puppy_convergence": dict(samples=40)},
+        "ch5": {"model": dict(solver_iterations=30)}})
     ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
                           key="model/puppy_convergence", log=logging.getLogger("test"))
     return PC.convergence(ctx), config
