@@ -58,13 +58,12 @@ INCONCLUSIVE_CONVERGENCE = "model's convergence in dt and sweeps not shown (inco
 CALIBRATION_TARGET = "its thesis number is a calibration target"
 
 
-def failed_targets(results: Mapping) -> list[dict] | None:
+def failed_targets(results: Mapping, conv: dict | None) -> list[dict] | None:
     """The failed validation targets of ``results[VALIDATION_KEY]`` as
-    ``[{"target": "V2", "text": <its numbers>}, ...]``, followed by
-    :func:`convergence_failure`'s entry where the convergence table decided "not
-    converged"; None when neither was run (then nothing is flagged)."""
+    ``[{"target": "V2", "text": <its numbers>}, ...]``, followed by ``conv`` (the Oncilla's
+    convergence table as :func:`convergence_failure` gives it) where that table decided
+    "not converged"; None when neither was run (then nothing is flagged)."""
     ds = results.get(VALIDATION_KEY)
-    conv = convergence_failure(results, CONVERGENCE_KEY, "convergence")
     if ds is None and conv is None:
         return None
     failed = [] if ds is None else [
@@ -133,11 +132,11 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     mark = calibration_mark(paper_keys, results)
     if mark is not None:
         out["calibration_target"] = mark
-    failed = failed_targets(results)
+    conv = convergence_failure(results, CONVERGENCE_KEY, "convergence")
+    failed = failed_targets(results, conv)
     if failed is None:
         return out
-    out["model_validation"] = _record(
-        failed, convergence_failure(results, CONVERGENCE_KEY, "convergence"))
+    out["model_validation"] = _record(failed, conv)
     return out
 
 
