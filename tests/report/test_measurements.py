@@ -49,3 +49,23 @@ def test_malformed_benchmark_is_named(tmp_path):
     p.write_text("s\n")
     with pytest.raises(ValueError, match="data.tsv"):
         measurements.job_rows("smoke", tmp_path)
+
+
+@pytest.mark.parametrize("cpu, wall, word", [
+    (1000.0, 3000.0, "**kept**"),        # one after another 50 min <= 1 h
+    (8000.0, 4000.0, "**exceeded**"),    # 8000 s over 2 cores = 4000 s > 3600 s
+    (6000.0, 5000.0, "**kept or not**"),  # 3000 s <= 1 h < 5000 s
+])
+def test_budget_is_held_against_both_bounds(tmp_path, cpu, wall, word):
+    _bench(tmp_path, "default", "ch3", "a", wall / 2, 100.0, cpu / 2)
+    _bench(tmp_path, "default", "ch6", "b", wall / 2, 100.0, cpu / 2)
+    md = measurements.measurements_md("default", {}, tmp_path, {"hours": 1, "cores": 2})
+    assert "## Budget" in md and "within 1 h 00 min 00 s on 2 CPU cores" in md
+    assert f"Budget {word}" in md
+    assert "| " + measurements._fmt_s(cpu) + " | " + measurements._fmt_s(cpu / 2) in md
+
+
+def test_no_budget_no_section(tmp_path):
+    _bench(tmp_path, "paper", "ch3", "a", 10.0, 100.0, 10.0)
+    assert "Budget" not in measurements.measurements_md("paper", {}, tmp_path, None)
+    assert "nothing to hold" in measurements.budget_lines([], {"hours": 4, "cores": 2})[-2]

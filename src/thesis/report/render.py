@@ -497,5 +497,6 @@ def render_report(profile: str, outdir: Path, *, config: dict | None = None,
         tmp.write_text(_summary_md(profile, sections, claims, results, power, damaged,
                                   decided, twins))
     with store.atomic_path(outdir / "measurements.md") as tmp:
-        tmp.write_text(measurements.measurements_md(profile, results, bench_root))
+        tmp.write_text(measurements.measurements_md(profile, results, bench_root,
+                                                    (config or {}).get("budget")))
     return index
