@@ -88,3 +88,62 @@ def test_a_gait_up_at_one_setting_only_blocks_converged():
                               [[[0] * 4, [0] * 4], [[0] * 4, [1, 1, 0, 0]]])
     res = CR.compare_runs(sp, fell, case, C)
     assert np.isinf(res["speed_change"][0, 1]) and res["verdict"][0] != CR.CONVERGED
+
+
+def test_paired_change_is_measured_within_each_run():
+    # runs spread 30 % between them, but each run moves by exactly +4 % between settings:
+    # unpaired this is inconclusive, paired the change is 4 % with almost no error
+    rng = np.random.default_rng(3)
+    v0 = 0.5 + 0.15 * rng.normal(size=40)
+    v = 1.04 * v0 + 1e-4 * rng.normal(size=40)
+    sp, fell, case, C = _runs([[list(v0)], [list(v)]])
+    assert CR.compare_runs(sp, fell, case, C)["verdict"].tolist() == [CR.INCONCLUSIVE]
+    r, se, pairs, one = CR.paired_speed_change(sp[1], sp[0], fell[1], fell[0], case, C)
+    assert r[0] == pytest.approx(0.04, abs=1e-3) and se[0] < 1e-3
+    assert pairs.tolist() == [40] and not one[0]
+    res = CR.paired_followup(sp, fell, case, C)
+    assert res["status"].tolist() == [[CR.INSIDE]]
+    # the ratio estimator's error by hand on three pairs
+    r, se, _, _ = CR.paired_speed_change([2.0, 4.0, 7.0], [1.0, 2.0, 3.0], [0, 0, 0],
+                                         [0, 0, 0], [0, 0, 0], 1)
+    d = np.array([2.0, 4.0, 7.0]) - 13 / 6 * np.array([1.0, 2.0, 3.0])
+    assert r[0] == pytest.approx(13 / 6 - 1)
+    assert se[0] == pytest.approx(d.std(ddof=1) / np.sqrt(3) / 2.0)
+
+
+def test_paired_change_uses_only_runs_up_at_both_settings():
+    v0, v = [0.5, 0.5, 0.5, 0.5, 9.0], [0.6, 0.6, 0.6, 9.0, 0.6]
+    r, _, pairs, one = CR.paired_speed_change(v, v0, [0, 0, 0, 1, 0], [0, 0, 0, 0, 1],
+                                              [0] * 5, 1)
+    assert pairs.tolist() == [3] and r[0] == pytest.approx(0.2) and not one[0]
+    # up three times at the reference, once at the refined setting: a speed at one only
+    r, _, pairs, one = CR.paired_speed_change(v, v0, [1, 1, 0, 1, 1], [0, 0, 0, 0, 1],
+                                              [0] * 5, 1)
+    assert np.isnan(r[0]) and one[0]
+    res = CR.paired_followup(np.array([v0, v]), np.array([[0, 0, 0, 0, 1], [1, 1, 0, 1, 1]],
+                                                         bool), np.zeros(5, int), 1)
+    assert np.isinf(res["speed_change"][0, 0]) and res["status"][0, 0] == CR.MOVED
+
+
+def test_case_status_reads_both_interval_ends():
+    st = CR.case_status([0.02, 0.30, 0.08, np.inf, np.nan], [0.05, 0.40, 0.20, np.nan, np.nan],
+                        [0.0, 0.20, 0.01, np.nan, np.nan])
+    assert st.tolist() == [CR.INSIDE, CR.BEYOND, CR.UNDECIDED, CR.MOVED, CR.UNTESTED]
+
+
+@pytest.mark.parametrize("followup, fall_upper, fall_lower, want", [
+    ([[CR.INSIDE], [CR.INSIDE]], 0.03, 0.0, [CR.CONVERGED, CR.CONVERGED]),
+    ([[CR.INSIDE], [CR.UNDECIDED]], 0.03, 0.0, [CR.CONVERGED, CR.INCONCLUSIVE]),
+    ([[CR.BEYOND], [CR.INSIDE]], 0.03, 0.0, [CR.NOT_CONVERGED, CR.CONVERGED]),
+    ([[CR.MOVED], [CR.INSIDE]], 0.03, 0.0, [CR.INCONCLUSIVE, CR.CONVERGED]),
+    ([[CR.INSIDE], [CR.INSIDE]], 0.08, 0.0, [CR.INCONCLUSIVE, CR.INCONCLUSIVE]),
+    ([[CR.INSIDE], [CR.INSIDE]], 0.09, 0.06, [CR.NOT_CONVERGED, CR.NOT_CONVERGED]),
+])
+def test_two_stage_replaces_the_followed_cases_only(followup, fall_upper, fall_lower, want):
+    # case 1 was undecided at the first refined setting; cases 0 and 2 were decided
+    status = [[CR.INSIDE, CR.UNDECIDED, CR.UNTESTED], [CR.INSIDE, CR.INSIDE, CR.UNTESTED]]
+    got = CR.two_stage(status, [fall_upper] * 2, [fall_lower] * 2, [1], followup)
+    assert got.tolist() == want
+    # without a follow-up the undecided case keeps the first setting inconclusive
+    assert CR.two_stage(status, [0.03] * 2, [0.0] * 2, [], np.empty((2, 0))).tolist() == [
+        CR.INCONCLUSIVE, CR.CONVERGED]

@@ -35,6 +35,10 @@ convergence). The rule, fixed before the runs it decides:
 
 A quantity with no sampling error estimate (fewer than two runs) has an infinite
 interval: it cannot make a table converged nor not converged.
+
+A table may add a **follow-up stage** (the Puppy II's does): where it is inconclusive, the
+cases it left undecided run again on fresh runs, their speeds paired run by run
+(:func:`paired_followup`), and :func:`two_stage` gives the verdict.
 """
 
 from __future__ import annotations
@@ -204,3 +208,137 @@ def compare_runs(speeds, fells, case, n_cases: int, *, speed_tol: float = SPEED_
     res.update(case_speed=mean, case_speed_se=se, fall_rate=falls,
                total_fall_rate=falls.mean(axis=1))
     return res
+
+
+# ------------------------------------------------------------------ follow-up stage
+#: A case's status at one refined setting (:func:`case_status`).
+INSIDE, BEYOND, UNDECIDED, MOVED, UNTESTED = "inside", "beyond", "undecided", "moved", "untested"
+
+
+def case_status(change, upper, lower_k, *, speed_tol: float = SPEED_TOLERANCE) -> np.ndarray:
+    """Each case's status at one refined setting, from its |r| and the two interval ends of
+    :func:`compare_runs` or :func:`paired_followup` (each (C,)): ``inside`` (the ``1 - ALPHA``
+    interval within the tolerance), ``beyond`` (the Bonferroni interval wholly beyond it),
+    ``moved`` (a speed at one setting only: ``change`` inf), ``untested`` (no speed at either:
+    ``change`` NaN), else ``undecided``."""
+    change, upper, lower_k = (np.asarray(x, float) for x in (change, upper, lower_k))
+    out = np.full(change.shape, UNDECIDED, dtype=object)
+    with np.errstate(invalid="ignore"):
+        out[upper <= speed_tol] = INSIDE
+        out[lower_k > speed_tol] = BEYOND
+    out[np.isinf(change)] = MOVED
+    out[np.isnan(change)] = UNTESTED
+    return out.astype(str)
+
+
+def paired_speed_change(speed, speed0, fell, fell0, case, n_cases: int):
+    """Each case's relative speed change over the runs that stayed up at *both* settings,
+    paired run by run (a follow-up's runs share their start, jitter and noise across the
+    settings): ``r = mean(v) / mean(v0) - 1`` with the ratio estimator's standard error
+    ``sd(v - (1 + r) v0) / sqrt(n) / |mean(v0)|`` (delta method).
+
+    Args:
+        speed, speed0: (N,) each run's speed [m/s] at the refined and the reference setting.
+        fell, fell0: (N,) bool. case: (N,) int in ``range(n_cases)``.
+
+    Returns:
+        (r, se_r, pairs, one_only), each (n_cases,): NaN where fewer than
+        :data:`MIN_UP_RUNS` runs stayed up at both; ``one_only`` where that many stayed up at
+        one setting and not at the other.
+    """
+    speed, speed0 = np.asarray(speed, float), np.asarray(speed0, float)
+    up = ~np.asarray(fell, bool) & np.isfinite(speed)
+    up0 = ~np.asarray(fell0, bool) & np.isfinite(speed0)
+    case = np.asarray(case)
+    r, se = np.full(n_cases, np.nan), np.full(n_cases, np.nan)
+    pairs, one_only = np.zeros(n_cases, int), np.zeros(n_cases, bool)
+    for c in range(n_cases):
+        m = case == c
+        both = m & up & up0
+        pairs[c] = int(both.sum())
+        one_only[c] = (int((m & up).sum()) >= MIN_UP_RUNS) != (int((m & up0).sum()) >= MIN_UP_RUNS)
+        if pairs[c] < MIN_UP_RUNS:
+            continue
+        v, v0 = speed[both], speed0[both]
+        ratio = v.mean() / v0.mean()
+        r[c] = ratio - 1.0
+        se[c] = (v - ratio * v0).std(ddof=1) / np.sqrt(pairs[c]) / abs(v0.mean())
+    return r, se, pairs, one_only
+
+
+def paired_followup(speeds, fells, case, n_cases: int, *, speed_tol: float = SPEED_TOLERANCE,
+                    alpha: float = ALPHA) -> dict:
+    """The follow-up stage: every refined setting against the first on fresh runs of the
+    cases a table left undecided, speeds paired (:func:`paired_speed_change`), the same
+    tolerance and error level as :func:`decide` (Bonferroni over the cases with a speed at
+    both settings). The fall rate is not retested (the table's own decides it).
+
+    Args:
+        speeds, fells: (G, N) the fresh runs at the G settings. case: (N,) int.
+
+    Returns:
+        dict of (G-1, C) arrays ``speed_change`` (|r|; inf: a speed at one setting only),
+        ``speed_change_se``, ``speed_change_upper``, ``speed_change_lower_k``, ``pairs`` and
+        ``status`` (:func:`case_status`).
+    """
+    speeds, fells = np.asarray(speeds, float), np.asarray(fells, bool)
+    out = {k: [] for k in ("speed_change", "speed_change_se", "speed_change_upper",
+                           "speed_change_lower_k", "pairs", "status")}
+    for g in range(1, speeds.shape[0]):
+        r, se, pairs, one_only = paired_speed_change(speeds[g], speeds[0], fells[g], fells[0],
+                                                     case, n_cases)
+        k = max(int(np.isfinite(r).sum()), 1)
+        z = float(stats.norm.ppf(1 - alpha / 2))
+        z_k = float(stats.norm.ppf(1 - alpha / (2 * k)))
+        change = np.where(one_only, np.inf, np.abs(r))
+        upper, lower_k = np.abs(r) + z * se, np.abs(r) - z_k * se
+        out["speed_change"].append(change)
+        out["speed_change_se"].append(se)
+        out["speed_change_upper"].append(upper)
+        out["speed_change_lower_k"].append(lower_k)
+        out["pairs"].append(pairs)
+        out["status"].append(case_status(change, upper, lower_k, speed_tol=speed_tol))
+    return {k: np.asarray(v) for k, v in out.items()}
+
+
+def two_stage(status, fall_upper, fall_lower_k, followed, followup_status, *,
+              fall_tol: float = FALL_TOLERANCE) -> np.ndarray:
+    """The verdict of each refined setting after a follow-up stage.
+
+    The first stage is the table (:func:`compare_runs`). When it is inconclusive, the cases
+    it left undecided at any refined setting run again on fresh runs (other starts, jitter
+    and noise) and :func:`paired_followup` decides them; a followed case takes its follow-up
+    status at every setting, every other case keeps the table's. Then, per setting:
+    **converged** when every case with a speed is ``inside``, none ``moved``, and the table's
+    fall-rate interval is within its tolerance; **not converged** when a case is ``beyond``
+    or the fall rate's Bonferroni interval is; else **inconclusive**.
+
+    Error levels: the follow-up's intervals rest on runs the first stage never saw, so each
+    keeps its level whatever the first stage selected. A converged verdict still needs every
+    case's interval inside (intersection-union, ``ALPHA`` per case). A case reaches
+    "beyond" at most through two tests (the table's and the follow-up's, each Bonferroni at
+    ``ALPHA``), so a not-converged verdict errs with at most ``2 ALPHA``.
+
+    Args:
+        status: (G-1, C) the table's :func:`case_status` per refined setting.
+        fall_upper, fall_lower_k: (G-1,) the table's fall-rate interval ends.
+        followed: (F,) int, the cases of the follow-up (indices into C).
+        followup_status: (G-1, F) their follow-up status.
+
+    Returns:
+        (G-1,) str verdicts.
+    """
+    status = np.array(status, dtype=object)
+    followed = np.asarray(followed, int)
+    if followed.size:
+        status[:, followed] = np.asarray(followup_status, dtype=object)
+    out = []
+    for s, up, lo in zip(status, np.asarray(fall_upper, float), np.asarray(fall_lower_k, float)):
+        s = [str(x) for x in s]
+        if BEYOND in s or lo > fall_tol + 1e-12:
+            out.append(NOT_CONVERGED)
+        elif all(x in (INSIDE, UNTESTED) for x in s) and up <= fall_tol + 1e-12:
+            out.append(CONVERGED)
+        else:
+            out.append(INCONCLUSIVE)
+    return np.asarray(out)

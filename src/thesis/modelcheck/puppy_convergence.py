@@ -24,6 +24,17 @@ chapter's own setting, decided three-valued on intervals over the case's trials 
 needs 3 trials that stayed up). A case is one frequency, so a speed's spread is the
 trials' own, not the difference between frequencies. The paw forces are recorded beside
 it, not decided.
+
+**Follow-up stage** (``physics.puppy_convergence.followup_trials``; fixed before any of its
+runs). Twenty trials decide most cells, but on the few whose trials spread widely (a turn on
+the soft Styrofoam) the table stays inconclusive. When it does, the cells it left undecided
+at either refined setting run again, ``followup_trials`` fresh trials each (stream
+``model/puppy_convergence/followup``: other starts, jitter and noise, the same at every
+setting), and :func:`thesis.modelcheck.convergence_rule.paired_followup` decides their
+speeds, paired trial by trial (a trial keeps its start, jitter, commands and noise across the
+settings, so the change is measured within each trial); the table's verdict becomes
+:func:`~thesis.modelcheck.convergence_rule.two_stage`'s. The first stage's verdicts stay in
+``stage1_verdict``.
 """
 
 from __future__ import annotations
@@ -31,6 +42,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from thesis import store
+from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck import validation as V
 from thesis.terrain import gaits as G
 from thesis.terrain import recordings as R
@@ -66,18 +79,84 @@ def _cells(recs: R.Recordings):
                                   map(float, recs.frequency))))
 
 
-def _config(ch5: dict, pc: dict, fdt: float, fsw: int) -> dict:
+def _config(ch5: dict, pc: dict, fdt: float, fsw: int, trials: int | None = None,
+            cells=None) -> dict:
     n = int(pc["samples"])
-    rec = dict(ch5["recordings"], trials_per_frequency=int(pc["trials_per_cell"]),
-               samples={"default": [n, n]})
+    rec = dict(ch5["recordings"], samples={"default": [n, n]},
+               trials_per_frequency=int(pc["trials_per_cell"] if trials is None else trials))
+    if cells is not None:
+        rec["cells"] = cells
     model = dict(ch5["model"], dt=float(ch5["model"]["dt"]) * fdt,
                  solver_iterations=int(ch5["model"]["solver_iterations"]) * int(fsw))
     return dict(ch5, recordings=rec, model=model)
 
 
+def _followup(ctx, ch5: dict, pc: dict, cells: list, followed) -> dict:
+    """The follow-up stage (module docstring) on the cases ``followed`` (indices into
+    ``cells``): fresh trials at every setting, decided by
+    :func:`~thesis.modelcheck.convergence_rule.paired_followup`."""
+    rate = float(ch5["recordings"]["sample_rate"])
+    names = [(G.GAITS[g], R.TERRAINS[t], f) for g, t, f in (cells[i] for i in followed)]
+    speeds, fells, walls, case = [], [], [], None
+    for name, fdt, fsw in V.SETTINGS:
+        cfg = _config(ch5, pc, fdt, fsw, trials=int(pc["followup_trials"]), cells=names)
+        recs, info = R.generate(cfg, ctx.root_seed, experiment=EXPERIMENT + "/followup")
+        ctx.log.info("puppy convergence follow-up %s: %d trials of %d cells in %.1f s", name,
+                     len(recs.length), len(names), info["wall_seconds"])
+        if case is None:
+            case = np.full(len(recs.length), -1)
+            for c, (g, t, f) in enumerate(names):
+                case[(recs.gait == G.GAITS.index(g)) & (recs.terrain == R.TERRAINS.index(t))
+                     & np.isclose(recs.frequency, f)] = c
+        speeds.append(trial_speeds(recs, rate))
+        fells.append(recs.length < np.asarray(info["planned_length"]))
+        walls.append(float(info["wall_seconds"]))
+    res = CR.paired_followup(np.asarray(speeds), np.asarray(fells), case, len(names))
+    falls = np.array([[f[case == c].mean() for c in range(len(names))] for f in fells])
+    return dict(res, fall_rate=falls, walls=np.asarray(walls),
+                trials=np.bincount(case, minlength=len(names)))
+
+
+def _stage1_status(data: dict) -> np.ndarray:
+    """(G-1, C) each case's status in the table (:func:`convergence_rule.case_status`)."""
+    return np.array([CR.case_status(c, u, lo) for c, u, lo in zip(
+        data["speed_change"][1], data["speed_change_upper"][1],
+        data["speed_change_lower_k"][1])])
+
+
+def _followup_variables(fu: dict, followed) -> dict:
+    """The follow-up's dataset variables (dimension ``followed``)."""
+    RF, SF = ("refined", "followed"), ("setting", "followed")
+    level = f"{1 - CR.ALPHA:.0%}"
+    return {
+        "followed_case": (("followed",), np.asarray(followed, int), V._a(
+            "1", "case (index) the follow-up ran again")),
+        "followup_trials_run": (("followed",), fu["trials"], V._a(
+            "1", "fresh trials of the case in the follow-up")),
+        "followup_fall_rate": (SF, fu["fall_rate"], V._a(
+            "1", "fraction of the follow-up's trials stopped because the robot turned over")),
+        "followup_speed_change": (RF, fu["speed_change"], V._a(
+            "1", "|relative speed change| over the follow-up's trials up at both settings, "
+                 "paired (inf: a speed at one setting only)")),
+        "followup_speed_change_se": (RF, fu["speed_change_se"], V._a(
+            "1", "standard error of the paired relative speed change (delta method)")),
+        "followup_speed_change_upper": (RF, fu["speed_change_upper"], V._a(
+            "1", f"upper end of the {level} interval of the paired |speed change|")),
+        "followup_speed_change_lower_k": (RF, fu["speed_change_lower_k"], V._a(
+            "1", "lower end of the Bonferroni interval of the paired |speed change|")),
+        "followup_pairs": (RF, fu["pairs"], V._a(
+            "1", "follow-up trials up at both settings (the pairs)")),
+        "followup_status": (RF, fu["status"], V._a(
+            "1", "the case's follow-up status (thesis.modelcheck.convergence_rule)")),
+        "followup_rollout_wall_seconds": (("setting",), fu["walls"], V._a(
+            "s", "wall time of the follow-up's recordings", **store.WALL_CLOCK)),
+    }
+
+
 def convergence(ctx) -> xr.Dataset:
     """``model/puppy_convergence``: the module docstring's three settings (§5.3.1's
-    recordings, Tab. 5.1's cells and frequencies)."""
+    recordings, Tab. 5.1's cells and frequencies), and its follow-up stage where the table
+    is inconclusive."""
     full = ctx.full_config
     ch5, pc = full["ch5"], full["physics"]["puppy_convergence"]
     rate = float(ch5["recordings"]["sample_rate"])
@@ -107,6 +186,26 @@ def convergence(ctx) -> xr.Dataset:
     touch = np.asarray(touch)
     data, verdicts = V.settings_variables(np.asarray(speeds), np.asarray(fells), case,
                                           len(cells), dts, sweeps, walls)
+    stage1 = np.asarray(verdicts)
+    status = _stage1_status(data)
+    followed = np.flatnonzero((status != CR.INSIDE).any(axis=0))
+    ran = (CR.overall(stage1) == CR.INCONCLUSIVE and int(pc["followup_trials"]) > 0
+           and followed.size > 0)
+    if ran:
+        fu = _followup(ctx, ch5, pc, cells, followed)
+        verdicts = CR.two_stage(status, data["fall_rate_change_upper"][1],
+                                data["fall_rate_change_lower_k"][1], followed, fu["status"])
+        data.update(_followup_variables(fu, followed))
+        change = np.array(data["speed_change"][1], float)
+        change[:, followed] = fu["speed_change"]
+        data["max_speed_change"] = (data["max_speed_change"][0], V._nanmax_rows(change),
+                                    V._a("1", "largest relative speed change, each followed "
+                                              "case's from its follow-up (inf: a case whose "
+                                              "speed is defined at one setting only)"))
+        data["verdict"] = (data["verdict"][0], verdicts, dict(data["verdict"][2], long_name=(
+            data["verdict"][2]["long_name"] + "; after the follow-up stage")))
+    data["stage1_verdict"] = (("refined",), stage1, V._a(
+        "1", "the table's verdict before any follow-up stage"))
     with np.errstate(invalid="ignore", divide="ignore"):
         touch_rel = np.abs(touch[1:] - touch[0]) / np.abs(touch[0])
     data["case_speed"][2]["long_name"] = ("speed over the ground of the case (mean over the "
@@ -132,5 +231,6 @@ def convergence(ctx) -> xr.Dataset:
         title="Convergence of the simulated Puppy II's recordings in dt and sweeps",
         thesis_ref="§5.3.1, Tab. 5.1 (the recordings of chapter 5)",
         seeds=[int(ctx.root_seed)], samples=int(pc["samples"]),
-        trials_per_cell=int(pc["trials_per_cell"]), **V.verdict_attrs(verdicts))
+        trials_per_cell=int(pc["trials_per_cell"]), followup_trials=int(pc["followup_trials"]),
+        followup_ran=int(ran), **V.verdict_attrs(verdicts))
     return ds

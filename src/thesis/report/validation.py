@@ -292,22 +292,35 @@ def puppy_convergence_table(results: dict) -> Table:
     cols = ["gait", "terrain", "f [Hz]"] + [f"speed [m/s] at {x}" for x in settings] \
         + [f"turned over at {x}" for x in settings] \
         + [f"speed change [%] at {x} (upper end)" for x in settings[1:]] \
-        + [f"paw-force fluctuation change at {x}" for x in settings[1:]]
+        + [f"paw-force fluctuation change at {x}" for x in settings[1:]] \
+        + [f"follow-up: paired speed change [%] at {x} (upper end)" for x in settings[1:]]
     if ds is None:
         return Table(id="puppy_convergence", title=title, thesis_ref=ref, columns=["—"],
                      rows=[[NOT_RUN]])
+    followed = ({int(c): i for i, c in enumerate(ds["followed_case"].values)}
+                if "followed_case" in ds else {})
+
+    def change(v, u):
+        return (f"{_pct(v)} (<= {_pct(u)})" if np.isfinite(float(v)) else
+                "moved (up at one setting only)" if np.isinf(float(v)) else "—")
+
     rows = []
     for c in range(int(ds.sizes["case"])):
         d = ds.isel(case=c)
         freq = fmt(float(d["case_frequency"]), 3) if "case_frequency" in d.coords else "—"
+        if c in followed:
+            f = ds.isel(followed=followed[c])
+            fu = [f"{change(v, u)}, {int(n)} pairs" for v, u, n in zip(
+                f["followup_speed_change"].values, f["followup_speed_change_upper"].values,
+                f["followup_pairs"].values)]
+        else:
+            fu = ["—"] * (len(settings) - 1)
         rows.append([str(d["case_gait"].values), str(d["case_terrain"].values), freq,
                      *[fmt(float(v), 3) for v in d["case_speed"].values],
                      *[f"{100 * float(v):.0f} %" for v in d["fall_rate"].values],
-                     *[f"{_pct(v)} (<= {_pct(u)})" if np.isfinite(float(v)) else
-                       "moved (up at one setting only)" if np.isinf(float(v)) else "—"
-                       for v, u in zip(d["speed_change"].values,
-                                       d["speed_change_upper"].values)],
-                     *[f"{100 * float(v):.1f} %" for v in d["touch_change"].values]])
+                     *[change(v, u) for v, u in zip(d["speed_change"].values,
+                                                    d["speed_change_upper"].values)],
+                     *[f"{100 * float(v):.1f} %" for v in d["touch_change"].values], *fu])
     tol = float(ds.attrs.get("speed_tolerance", 0.1))
     verdicts = "; ".join(
         f"{r}: {ds['verdict'].sel(refined=r).values} (speeds moved beyond the tolerance "
@@ -315,8 +328,15 @@ def puppy_convergence_table(results: dict) -> Table:
         f"{_pct(ds['fall_rate_change'].sel(refined=r), 1)} points, "
         f"<= {_pct(ds['fall_rate_change_upper'].sel(refined=r), 1)})"
         for r in ds["refined"].values)
+    stage1 = ("stage1_verdict" in ds and ", ".join(
+        f"{r}: {ds['stage1_verdict'].sel(refined=r).values}" for r in ds["refined"].values))
+    followup = (f" Follow-up stage (the table alone: {stage1}): the {len(followed)} cells it "
+                f"left undecided ran again, {ds.attrs.get('followup_trials')} fresh trials "
+                "each, speeds paired trial by trial; a followed cell is decided by its "
+                "follow-up (last columns)." if followed else
+                f" No follow-up stage (the table alone: {stage1})." if stage1 else "")
     return Table(id="puppy_convergence", title=title, thesis_ref=ref, columns=cols, rows=rows,
-                 note=f"Overall: {ds.attrs.get('verdict', '?')}; {verdicts}. Each case's "
+                 note=f"Overall: {ds.attrs.get('verdict', '?')}; {verdicts}.{followup} Each case's "
                       f"trials ({ds.attrs.get('trials_per_cell')} per cell and frequency, "
                       f"{ds.attrs.get('samples')} samples at 50 Hz) from the same starts, "
                       "jitter and noise at every setting; speed over the ground from the "

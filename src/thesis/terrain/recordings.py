@@ -101,15 +101,21 @@ class Recordings:
 
 
 def trial_table(cfg: dict, rng: np.random.Generator) -> list[dict]:
-    """The trials to simulate (their planned lengths): Tab. 5.1's counts (at most ``max_trials_per_cell`` per
-    cell when set; exactly ``trials_per_frequency`` per non-empty cell when set), each with
-    its length drawn uniformly from the terrain's range."""
+    """The trials to simulate (their planned lengths): Tab. 5.1's counts (at most
+    ``max_trials_per_cell`` per cell when set; exactly ``trials_per_frequency`` per non-empty
+    cell when set), each with its length drawn uniformly from the terrain's range. ``cells``
+    (the Puppy II's convergence table's follow-up, not a profile key): only these ``(gait,
+    terrain letter, frequency [Hz])`` cells."""
     cap = cfg["recordings"].get("max_trials_per_cell")
     exact = cfg["recordings"].get("trials_per_frequency")
+    only = cfg["recordings"].get("cells")
+    only = None if only is None else {(str(g), str(t), round(float(f), 6)) for g, t, f in only}
     lengths = cfg["recordings"]["samples"]
     out = []
     for (gait, terrain), counts in TAB5_1.items():
         for f, n in zip(FREQUENCIES, counts):
+            if only is not None and (gait, terrain, round(float(f), 6)) not in only:
+                continue
             if exact is not None:
                 n = int(exact) if n else 0
             elif cap is not None:
