@@ -112,6 +112,12 @@ def fall_change(fell, fell0, case, n_cases: int) -> tuple[float, float, float, f
     return p, p0, p - p0, float(np.sqrt(var) / n_cases)
 
 
+def _quantiles(alpha: float, k: int) -> tuple[float, float]:
+    """(z, z_k): the normal quantiles of a two-sided ``1 - alpha`` interval and of its
+    Bonferroni version over ``k`` quantities."""
+    return float(stats.norm.ppf(1 - alpha / 2)), float(stats.norm.ppf(1 - alpha / (2 * k)))
+
+
 def decide(r, se_r, defined_one_only, d: float, se_d: float, *,
            speed_tol: float = SPEED_TOLERANCE, fall_tol: float = FALL_TOLERANCE,
            alpha: float = ALPHA) -> dict:
@@ -134,8 +140,7 @@ def decide(r, se_r, defined_one_only, d: float, se_d: float, *,
     se_r = np.where(np.isfinite(se_r), se_r, np.inf)
     se_d = float(se_d) if np.isfinite(se_d) else np.inf
     k = int(both.sum()) + 1
-    z = float(stats.norm.ppf(1 - alpha / 2))
-    z_k = float(stats.norm.ppf(1 - alpha / (2 * k)))
+    z, z_k = _quantiles(alpha, k)
     with np.errstate(invalid="ignore"):
         speed_upper = np.where(both, np.abs(r) + z * se_r, np.nan)
         speed_lower_k = np.where(both, np.abs(r) - z_k * se_r, np.nan)
@@ -287,9 +292,7 @@ def paired_followup(speeds, fells, case, n_cases: int, *, speed_tol: float = SPE
     for g in range(1, speeds.shape[0]):
         r, se, pairs, one_only = paired_speed_change(speeds[g], speeds[0], fells[g], fells[0],
                                                      case, n_cases)
-        k = max(int(np.isfinite(r).sum()), 1)
-        z = float(stats.norm.ppf(1 - alpha / 2))
-        z_k = float(stats.norm.ppf(1 - alpha / (2 * k)))
+        z, z_k = _quantiles(alpha, max(int(np.isfinite(r).sum()), 1))
         change = np.where(one_only, np.inf, np.abs(r))
         upper, lower_k = np.abs(r) + z * se, np.abs(r) - z_k * se
         out["speed_change"].append(change)

@@ -79,6 +79,20 @@ def _cells(recs: R.Recordings):
                                   map(float, recs.frequency))))
 
 
+def _case_rows(recs: R.Recordings, cells) -> list[np.ndarray]:
+    """Each cell's trial indices in ``recs`` (cells as :func:`_cells` gives them)."""
+    return [np.flatnonzero((recs.gait == g) & (recs.terrain == t)
+                           & np.isclose(recs.frequency, f)) for g, t, f in cells]
+
+
+def _case_of(rows, n_trials: int) -> np.ndarray:
+    """(n_trials,) each trial's case index from :func:`_case_rows` (-1: none)."""
+    case = np.full(n_trials, -1)
+    for c, r in enumerate(rows):
+        case[r] = c
+    return case
+
+
 def _config(ch5: dict, pc: dict, fdt: float, fsw: int, trials: int | None = None,
             cells=None) -> dict:
     n = int(pc["samples"])
@@ -96,7 +110,8 @@ def _followup(ctx, ch5: dict, pc: dict, cells: list, followed) -> dict:
     ``cells``): fresh trials at every setting, decided by
     :func:`~thesis.modelcheck.convergence_rule.paired_followup`."""
     rate = float(ch5["recordings"]["sample_rate"])
-    names = [(G.GAITS[g], R.TERRAINS[t], f) for g, t, f in (cells[i] for i in followed)]
+    mine = [cells[i] for i in followed]
+    names = [(G.GAITS[g], R.TERRAINS[t], f) for g, t, f in mine]
     speeds, fells, walls, case = [], [], [], None
     for name, fdt, fsw in V.SETTINGS:
         cfg = _config(ch5, pc, fdt, fsw, trials=int(pc["followup_trials"]), cells=names)
@@ -104,10 +119,7 @@ def _followup(ctx, ch5: dict, pc: dict, cells: list, followed) -> dict:
         ctx.log.info("puppy convergence follow-up %s: %d trials of %d cells in %.1f s", name,
                      len(recs.length), len(names), info["wall_seconds"])
         if case is None:
-            case = np.full(len(recs.length), -1)
-            for c, (g, t, f) in enumerate(names):
-                case[(recs.gait == G.GAITS.index(g)) & (recs.terrain == R.TERRAINS.index(t))
-                     & np.isclose(recs.frequency, f)] = c
+            case = _case_of(_case_rows(recs, mine), len(recs.length))
         speeds.append(trial_speeds(recs, rate))
         fells.append(recs.length < np.asarray(info["planned_length"]))
         walls.append(float(info["wall_seconds"]))
@@ -171,12 +183,9 @@ def convergence(ctx) -> xr.Dataset:
         fell = recs.length < planned
         sp, tm = trial_speeds(recs, rate), touch_fluctuation(recs)
         cells = _cells(recs) if cells is None else cells
-        rows = [np.flatnonzero((recs.gait == g) & (recs.terrain == t)
-                               & np.isclose(recs.frequency, f)) for g, t, f in cells]
+        rows = _case_rows(recs, cells)
         if case is None:
-            case = np.full(len(recs.length), -1)
-            for c, r in enumerate(rows):
-                case[r] = c
+            case = _case_of(rows, len(recs.length))
         speeds.append(sp)
         fells.append(fell)
         touch.append([float(tm[r].mean()) for r in rows])
