@@ -218,3 +218,17 @@ def test_thread_load_counts_taut_poses_and_their_tension(cfg):
     assert out["thread_force"][1] == pytest.approx(0.5 * steady, rel=0.05)
     bare = C.thread_load(C.untethered(model), sim, 0.0, sim["t"][-1])
     np.testing.assert_array_equal(bare["taut"], 0.0)
+
+
+@pytest.mark.parametrize("chapter", ["ch3", "ch4", "ch6"])
+def test_the_model_section_s_warm_start_reaches_the_solver(chapter):
+    from thesis.embodied import sweep as SW
+    from thesis.gaits import experiments as E
+
+    build = {"ch3": E.model_of, "ch4": C.base_model, "ch6": SW.model_of}[chapter]
+    section = load_config("smoke")[chapter]
+    default, _ = build(section)
+    assert float(default.warm_start) == pytest.approx(section["model"]["warm_start"])
+    changed = dict(section, model=dict(section["model"], warm_start=0.25))
+    model, _ = build(changed)
+    assert float(model.warm_start) == pytest.approx(0.25)

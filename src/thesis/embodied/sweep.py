@@ -106,17 +106,18 @@ def controller_dt(cfg: dict) -> float:
 
 @functools.lru_cache(maxsize=4)
 def _model(dt: float, iterations: int, knee_spring: float, joint_hz: float,
-           contact_hz: float):
+           contact_hz: float, warm_start: float):
     return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
-                     joint_hz=joint_hz, contact_hz=contact_hz)
+                     joint_hz=joint_hz, contact_hz=contact_hz, warm_start=warm_start)
 
 
 def model_of(cfg: dict):
     """(Model, State) of the configured Oncilla (``ch6.model``: step, sweeps, the fitted
-    knee spring and the constraint softness [Hz]; by default chapters 3 and 4's robot)."""
+    knee spring, the constraint softness [Hz] and the solver's warm start; by default
+    chapters 3 and 4's robot)."""
     m = cfg["model"]
     return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
-                  float(m["joint_hz"]), float(m["contact_hz"]))
+                  float(m["joint_hz"]), float(m["contact_hz"]), float(m["warm_start"]))
 
 
 def teachers_from(ds: xr.Dataset) -> dict[str, tuple]:

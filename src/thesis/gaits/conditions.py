@@ -85,7 +85,7 @@ def _model_kwargs(cfg) -> dict:
     """``oncilla()`` arguments of the ``model`` and ``tether`` config sections."""
     m, t = cfg["model"], cfg["tether"]
     return dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
-                knee_spring=float(m["knee_spring"]),
+                knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
                 tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
                 tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
                 tether_width=float(t["width"]))

@@ -37,15 +37,17 @@ def param_label(name: str) -> str:
 
 
 @functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int, knee_spring: float):
-    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring)
+def _model(dt: float, iterations: int, knee_spring: float, warm_start: float):
+    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
+                     warm_start=warm_start)
 
 
 def model_of(cfg):
     """(Model, State) of the configured Oncilla (``model``: dt, sweeps, the fitted knee
-    spring)."""
+    spring, the solver's warm start)."""
     m = cfg["model"]
-    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]))
+    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
+                  float(m["warm_start"]))
 
 
 #: Length of the padded parameter vectors of a mixed batch (the sine family has 13).
