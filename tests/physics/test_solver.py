@@ -125,3 +125,44 @@ def test_contact_lcp_matches_enumerative_solution(x64):
     v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ best
     errs = [np.abs(_solve(m, problem, k) - v_direct).max() for k in (2, 10, 60, 400)]
     assert errs[-1] < 1e-6 and errs[-1] < errs[0], errs
+
+
+def _leg_under_trunk():
+    """A light two-segment leg on a servo-driven universal joint under a 4-kg trunk (the
+    Oncilla's scapula/hip pattern), servos off their commands, torques unbounded."""
+    b = Builder("leg", dt=0.0025)
+    b.add_box("trunk", (0.4, 0.14, 0.07), (0, 0, 0.3), mass=4.0)
+    b.add_box("femur", (0.02, 0.02, 0.065), (0.1, 0.1, 0.2325), mass=0.1)
+    b.add_box("tibia", (0.015, 0.015, 0.07), (0.1, 0.1, 0.165), mass=0.08)
+    b.add_universal("hip", "trunk", "femur", (0.1, 0.1, 0.265), (1, 0, 0), (0, -1, 0))
+    b.add_hinge("knee", "femur", "tibia", (0.1, 0.1, 0.2), (0, -1, 0))
+    for name, axis in (("scapula", 0), ("swing", 1)):
+        b.add_position_servo("hip", 10.0, 1e6, 1e6, axis_index=axis, name=name)
+    b.add_position_servo("knee", 50.0, 1e6, 1e6, name="knee")
+    b.set_velocity("trunk", (0.3, -0.2, 0.1), (0.5, -0.4, 0.2))
+    b.set_velocity("femur", (0.1, 0.4, -0.2), (2.0, 1.0, -0.5))
+    return b.build(jnp.float64)
+
+
+def test_blocks_first_sweeps_reach_the_same_solution_far_sooner(x64):
+    """Both sweep orders converge to the direct solution of the equality system; blocks
+    first at relaxation 1 gets there in far fewer sweeps than Jacobi at the Oncilla's 0.3
+    (solver module docstring, Sweep order)."""
+    m, s = _leg_under_trunk()
+    problem = _problem(m, s)
+    jmat, minv, a, rhs, _ = _dense(m, *problem)
+    v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ np.linalg.solve(a, rhs)
+    scale = np.abs(v_direct).max()
+    jacobi = m.replace(relaxation=jnp.asarray(0.3))
+    first = m.replace(relaxation=jnp.asarray(1.0), sweep_order="blocks_first")
+    err = {name: [np.abs(_solve(mk, problem, k) - v_direct).max() / scale for k in (30, 120, 4000)]
+           for name, mk in (("jacobi", jacobi), ("blocks_first", first))}
+    print(err)
+    assert err["jacobi"][-1] < 1e-6 and err["blocks_first"][-1] < 1e-6, err
+    assert err["blocks_first"][1] < 0.2 * err["jacobi"][1], err
+    assert err["blocks_first"][0] < err["jacobi"][0], err
+
+
+def test_an_unknown_sweep_order_is_refused_with_the_allowed_ones():
+    with pytest.raises(ValueError, match="sweep_order must be one of.*jacobi.*blocks_first"):
+        Builder("x", sweep_order="gauss_seidel")

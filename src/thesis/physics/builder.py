@@ -42,7 +42,7 @@ import numpy as np
 import jax.numpy as jnp
 
 from thesis.physics.math import quat_to_rot
-from thesis.physics.types import GeomType, JointType, ServoKind
+from thesis.physics.types import SWEEP_ORDERS, GeomType, JointType, ServoKind
 
 __all__ = ["Builder", "box_inertia", "sphere_inertia", "JOINT_HZ", "LIMIT_HZ", "CONTACT_HZ"]
 
@@ -104,6 +104,9 @@ class Builder:
         dt: time step [s]. solver_iterations: PGS sweeps per step. gravity: (3,) [m/s^2].
         warm_start: fraction of the previous impulses used as the initial guess (FACTS §2.4).
         relaxation: Jacobi relaxation factor of the solver (see ``solver.py``).
+        sweep_order: ``"jacobi"`` (default: every joint block and scalar row updated from
+            the same velocities) or ``"blocks_first"`` (the joint blocks, then the scalar
+            rows from the velocities the new block impulses give); see ``solver.py``.
         joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
             :data:`JOINT_HZ`, ratio 1); physical, independent of dt.
         limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).
@@ -120,13 +123,17 @@ class Builder:
                  warm_start=0.85, relaxation=0.5, joint_hz=None, joint_zeta=1.0,
                  limit_hz=None, limit_zeta=1.0, reortho_iterations=1,
                  restitution_threshold=None, contact_slop=0.0, friction=0.5,
-                 restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False):
+                 restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False,
+                 sweep_order="jacobi"):
         self.name = name
         self.dt = float(dt)
         self.solver_iterations = int(solver_iterations)
         self.gravity = np.asarray(gravity, dtype=np.float64)
         self.warm_start = float(warm_start)
         self.relaxation = float(relaxation)
+        if sweep_order not in SWEEP_ORDERS:
+            raise ValueError(f"sweep_order must be one of {SWEEP_ORDERS}, got {sweep_order!r}")
+        self.sweep_order = str(sweep_order)
         self.joint_hz = JOINT_HZ if joint_hz is None else float(joint_hz)
         self.joint_zeta = float(joint_zeta)
         self.limit_hz = LIMIT_HZ if limit_hz is None else float(limit_hz)

@@ -14,6 +14,18 @@ parallel from the same velocities, with a relaxation factor ``model.relaxation``
 projected on their bounds (friction bounds use the just-projected normal impulse), for a
 static ``model.solver_iterations`` sweeps (``lax.fori_loop``, reverse-differentiable).
 
+Sweep order (``model.sweep_order``). ``"jacobi"`` (the default, every model of
+chapters 5 and 7): blocks and rows all update from the same velocities. ``"blocks_first"``:
+the joint blocks update first, then every scalar row from the velocities the new block
+impulses give (Gauss-Seidel between the two groups, Jacobi within each); each group's
+impulses are scattered to the bodies once per sweep, as in ``"jacobi"``. A joint's servo
+and limit rows act on the same two bodies as its block; updated from the same velocities,
+block and row each correct the same residual and overshoot, which only a small relaxation
+damps. On the Oncilla (a light leg on a universal joint under a 4-kg trunk) that left the
+scapula servo rows 20-30 % from their solution after 120 sweeps at relaxation 0.3; blocks
+first, at relaxation 1.0, 120 sweeps bring every row group within 3 %
+(``thesis.physics.models.oncilla``, Solver; ``tests/physics/test_solver.py``).
+
 Friction cone. The two friction rows of a contact are projected together (:func:`cone`):
 their impulse pair is scaled radially onto the disc of radius ``mu lambda_n`` (the
 exact, nearest-point projection for isotropic Coulomb friction, as in projected
@@ -197,6 +209,7 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
     relax = jnp.asarray(relax, dtype)
     relax_j, relax_r = relax.reshape((1, 1) + relax.shape), relax.reshape((1,) + relax.shape)
     seg = np.concatenate([ba, bb, ra, rb]).astype(np.int32)
+    seg_j, seg_r = seg[:len(ba) + len(bb)], seg[len(ba) + len(bb):]
 
     def bmv(a, x):  # (n, r, k, *B), (n, k, *B) -> (n, r, *B)
         return jnp.sum(a * x[:, None], axis=2)
@@ -208,6 +221,15 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
         # a scatter-add over the leading (body) axis: robots-last, each added row is a
         # contiguous run of 6 x robots values
         return v0 + jax.ops.segment_sum(dv, seg, num_segments=nb1)
+
+    def dv_joints(lj):  # the joint blocks' velocity change (blocks_first)
+        dv = jnp.concatenate([jnp.sum(c["wa"] * lj[:, :, None], axis=1),
+                              jnp.sum(c["wb"] * lj[:, :, None], axis=1)])
+        return jax.ops.segment_sum(dv, seg_j, num_segments=nb1)
+
+    def dv_rows(lr):  # the scalar rows' velocity change (blocks_first)
+        dv = jnp.concatenate([c["wra"] * lr[:, None], c["wrb"] * lr[:, None]])
+        return jax.ops.segment_sum(dv, seg_r, num_segments=nb1)
 
     def project(lr):
         lr = jnp.clip(lr, c["lo"], c["hi"])
@@ -226,18 +248,34 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
         a, b = cone(a, b, lr[first - n:first], mu1, c["fric"][t2])
         return jnp.concatenate([lr[:first], a, b, lr[first + 2 * n:]])
 
+    def block_update(lj, v):
+        jv_j = bmv(c["ja"], v[ba]) + bmv(c["jb"], v[bb])
+        res_j = (jv_j + c["bias_j"] + c["cfm_j"] * lj) * mask
+        return lj - relax_j * bmv(c["a_inv"], res_j)
+
+    def row_update(lr, v):
+        jv_r = jnp.sum(c["rja"] * v[ra], axis=1) + jnp.sum(c["rjb"] * v[rb], axis=1)
+        return project(lr - relax_r * c["m_c"] * (jv_r + c["bias"] + c["cfm"] * lr))
+
     def sweep(_, carry):
         lj, lr = carry
         v = velocities(lj, lr)
-        jv_j = bmv(c["ja"], v[ba]) + bmv(c["jb"], v[bb])
-        res_j = (jv_j + c["bias_j"] + c["cfm_j"] * lj) * mask
-        lj = lj - relax_j * bmv(c["a_inv"], res_j)
-        jv_r = jnp.sum(c["rja"] * v[ra], axis=1) + jnp.sum(c["rjb"] * v[rb], axis=1)
-        lr = project(lr - relax_r * c["m_c"] * (jv_r + c["bias"] + c["cfm"] * lr))
-        return lj, lr
+        return block_update(lj, v), row_update(lr, v)
+
+    def sweep_blocks_first(_, carry):
+        # carries the blocks' velocity change, so that a sweep scatters each group once
+        lj, lr, v_joints = carry
+        v_rows = dv_rows(lr)
+        lj = block_update(lj, v0 + v_joints + v_rows)
+        v_joints = dv_joints(lj)
+        return lj, row_update(lr, v0 + v_joints + v_rows), v_joints
 
     lam = (lam_joint0 * mask, project(lam_row0))
-    lj, lr = jax.lax.fori_loop(0, m.solver_iterations, sweep, lam)
+    if m.sweep_order == "blocks_first":
+        lj, lr, _ = jax.lax.fori_loop(0, m.solver_iterations, sweep_blocks_first,
+                                      lam + (dv_joints(lam[0]),))
+    else:
+        lj, lr = jax.lax.fori_loop(0, m.solver_iterations, sweep, lam)
     return velocities(lj, lr), lj, lr
 
 

@@ -24,7 +24,7 @@ from typing import Any
 import jax
 import numpy as np
 
-__all__ = ["JointType", "DofKind", "ServoKind", "GeomType", "Model", "State"]
+__all__ = ["JointType", "DofKind", "ServoKind", "GeomType", "Model", "State", "SWEEP_ORDERS"]
 
 
 class JointType(enum.IntEnum):
@@ -113,6 +113,11 @@ def _register(cls):
     return cls
 
 
+#: Orders of the updates within one solver sweep (``Model.sweep_order``,
+#: :mod:`thesis.physics.solver`).
+SWEEP_ORDERS = ("jacobi", "blocks_first")
+
+
 class _Replace:
     def replace(self, **changes):
         """A copy with the given fields changed (keywords only)."""
@@ -129,6 +134,8 @@ class Model(_Replace):
         n_body: number of dynamic bodies (the world is index ``n_body``).
         body_names: (n_body,) names.
         solver_iterations: block-Jacobi PGS sweeps per step.
+        sweep_order: ``"jacobi"`` or ``"blocks_first"``, the order of the updates within
+            a sweep (:data:`SWEEP_ORDERS`, :mod:`thesis.physics.solver`).
         reortho_iterations: eq. 7.1 steps per time step.
         joint_names, joint_type (n_joint,) JointType, joint_body1/joint_body2 (n_joint,)
             body indices, joint_row_mask (n_joint, 6) bool: which of the 6 equality rows
@@ -221,7 +228,7 @@ class Model(_Replace):
         "field_name", "field_query", "field_k", "field_grid", "field_material",
         "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
-        "camera_names", "camera_body", "camera_pixels", "batched",
+        "camera_names", "camera_body", "camera_pixels", "batched", "sweep_order",
     )
 
     name: str
@@ -272,6 +279,7 @@ class Model(_Replace):
     camera_body: np.ndarray
     camera_pixels: tuple
     batched: bool = False
+    sweep_order: str = "jacobi"
 
     dt: Any
     gravity: Any
