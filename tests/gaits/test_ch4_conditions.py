@@ -221,14 +221,20 @@ def test_thread_load_counts_taut_poses_and_their_tension(cfg):
 
 
 @pytest.mark.parametrize("chapter", ["ch3", "ch4", "ch6"])
-def test_the_model_section_s_warm_start_reaches_the_solver(chapter):
+def test_the_model_section_s_solver_settings_reach_the_solver(chapter):
     from thesis.embodied import sweep as SW
     from thesis.gaits import experiments as E
 
     build = {"ch3": E.model_of, "ch4": C.base_model, "ch6": SW.model_of}[chapter]
     section = load_config("smoke")[chapter]
+    m = section["model"]
     default, _ = build(section)
-    assert float(default.warm_start) == pytest.approx(section["model"]["warm_start"])
-    changed = dict(section, model=dict(section["model"], warm_start=0.25))
+    assert float(default.warm_start) == pytest.approx(m["warm_start"])
+    assert float(default.relaxation) == pytest.approx(m["relaxation"])
+    assert default.sweep_order == m["sweep_order"]
+    other = "jacobi" if m["sweep_order"] == "blocks_first" else "blocks_first"
+    changed = dict(section, model=dict(m, warm_start=0.25, relaxation=0.7, sweep_order=other))
     model, _ = build(changed)
     assert float(model.warm_start) == pytest.approx(0.25)
+    assert float(model.relaxation) == pytest.approx(0.7)
+    assert model.sweep_order == other

@@ -106,18 +106,20 @@ def controller_dt(cfg: dict) -> float:
 
 @functools.lru_cache(maxsize=4)
 def _model(dt: float, iterations: int, knee_spring: float, joint_hz: float,
-           contact_hz: float, warm_start: float):
+           contact_hz: float, warm_start: float, relaxation: float, sweep_order: str):
     return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
-                     joint_hz=joint_hz, contact_hz=contact_hz, warm_start=warm_start)
+                     joint_hz=joint_hz, contact_hz=contact_hz, warm_start=warm_start,
+                     relaxation=relaxation, sweep_order=sweep_order)
 
 
 def model_of(cfg: dict):
     """(Model, State) of the configured Oncilla (``ch6.model``: step, sweeps, the fitted
-    knee spring, the constraint softness [Hz] and the solver's warm start; by default
-    chapters 3 and 4's robot)."""
+    knee spring, the constraint softness [Hz] and the solver's warm start, relaxation and
+    sweep order; by default chapters 3 and 4's robot)."""
     m = cfg["model"]
     return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
-                  float(m["joint_hz"]), float(m["contact_hz"]), float(m["warm_start"]))
+                  float(m["joint_hz"]), float(m["contact_hz"]), float(m["warm_start"]),
+                  float(m["relaxation"]), str(m["sweep_order"]))
 
 
 def teachers_from(ds: xr.Dataset) -> dict[str, tuple]:

@@ -86,6 +86,7 @@ def _model_kwargs(cfg) -> dict:
     m, t = cfg["model"], cfg["tether"]
     return dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
                 knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
+                relaxation=float(m["relaxation"]), sweep_order=str(m["sweep_order"]),
                 tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
                 tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
                 tether_width=float(t["width"]))

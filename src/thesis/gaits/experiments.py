@@ -37,17 +37,18 @@ def param_label(name: str) -> str:
 
 
 @functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int, knee_spring: float, warm_start: float):
+def _model(dt: float, iterations: int, knee_spring: float, warm_start: float,
+           relaxation: float, sweep_order: str):
     return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
-                     warm_start=warm_start)
+                     warm_start=warm_start, relaxation=relaxation, sweep_order=sweep_order)
 
 
 def model_of(cfg):
     """(Model, State) of the configured Oncilla (``model``: dt, sweeps, the fitted knee
-    spring, the solver's warm start)."""
+    spring, the solver's warm start, relaxation and sweep order)."""
     m = cfg["model"]
     return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
-                  float(m["warm_start"]))
+                  float(m["warm_start"]), float(m["relaxation"]), str(m["sweep_order"]))
 
 
 #: Length of the padded parameter vectors of a mixed batch (the sine family has 13).

@@ -84,18 +84,20 @@ its reason; nothing is fitted to a result of the thesis):
   trunk. With 15 sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped
   6 cm; with 30 sweeps at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk
   thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
-  physical (as did halving dt, at twice the cost). **Not converged in the sweeps**:
-  30 is a cost choice, not a converged solution. More sweeps change the gaits' speeds
-  several-fold, and hold the scapulae far closer to their commands, until about 120
-  sweeps; from 120 to 240 they move by a few percent (``thesis validate oncilla
-  --set ch4.model.solver_iterations=N``; the 2x-sweeps column of ``--only
-  convergence``). Every chapter on this model inherits that (issue 53). **Warm start**
-  (``warm_start``, the ``model`` sections' key): the engine's 0.85. A leg resting on its
-  stop loses 15 % of its steady impulse at every step and the relaxed sweeps rebuild it
-  only in part, which is the 2x-sweeps column's bias; with 1.0, 120 sweeps give about
-  the speeds of 480 on the spline and Tab. 4.2's optimum, but the convergence table
-  still fails in dt, and at 60 sweeps also in the sweeps (Tab. 3.1a at 0.5 Hz moves
-  18 % from 60 to 120). So 0.85 stays; the key lets the table be run with another value.
+  physical (as did halving dt, at twice the cost). Those were this function's defaults
+  (30 sweeps, ``sweep_order="jacobi"``, relaxation 0.3), which the smoke profile keeps.
+  **The chapters' solver** (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first``
+  order at relaxation 1.0 (:mod:`thesis.physics.solver`, Sweep order). In the Jacobi
+  order the servo and limit rows of the scapula/hip joint converge slowly: at 120 sweeps
+  the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline walked
+  0.31 m/s at 1.5 Hz against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
+  scapulae within 3 / 1 deg (the half ellipse moved by at most 4 %). Blocks first at
+  relaxation 1.0, 120 sweeps give the 960-sweep speeds and hold the scapulae within
+  1 deg at about the Jacobi order's cost per sweep; relaxation 0.5 in the Jacobi order
+  diverges. ``model/convergence`` then finds no published gait beyond tolerance under
+  twice the sweeps or half the step (inconclusive on the gaits that fall in part of
+  their starts). **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps the
+  Jacobi order (120 sweeps then give about 480's speeds) but was not needed.
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
   motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
@@ -127,12 +129,14 @@ its reason; nothing is fitted to a result of the thesis):
   N/m) is of the order of our estimate for a Hertz contact of a 10-mm rubber sphere
   under half the robot's weight (about 3e4 N/m with a Young's modulus of a few MPa, an
   assumed generic rubber value: no source gives the toes' material); nothing was changed
-  or fitted on that estimate. The table finds the half ellipse converged and the
-  published gaits whose fore legs rest on their extension stops in stance
-  (``stance_knee_stop``, ``stance_cable_taut`` of the validation) not converged; those
-  rows are 400-Hz rows that no step of the table resolves (2 pi 400 Hz x 2.5 ms = 6.3).
+  or fitted on that estimate. With the Jacobi order the table found the published gaits
+  whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
+  ``stance_cable_taut`` of the validation) not converged; with the chapters' solver
+  (Solver above) no gait is beyond tolerance.
 * **Not revised** (the source gives them, the model does not have them yet): the foot
-  plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot).
+  plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot). A plate
+  50 mm long pointing forward from each toe (a second toe sphere) made the published
+  gaits fall more (23 -> 34 of the validation's 85 runs, Jacobi order), so none is added.
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
   0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
   lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
@@ -244,7 +248,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             hind_geom: L.LegGeometry | None = None, dtype=jnp.float32,
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
-            contact_hz=CONTACT_HZ, warm_start=0.85):
+            contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi"):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -253,6 +257,9 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             the floor contacts (critically damped; physical, independent of dt).
         warm_start: fraction of the last step's impulses the solver starts from (the
             engine's 0.85, FACTS §2.4, by default; see the module docstring's Solver).
+        relaxation, sweep_order: the solver's relaxation factor and the order of its
+            updates within a sweep (:mod:`thesis.physics.solver`; module docstring,
+            Solver).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -294,7 +301,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
                 contact_hz=contact_hz, restitution=restitution, contact_slop=0.001,
-                warm_start=warm_start)
+                warm_start=warm_start, sweep_order=sweep_order)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, float(contact_hz), 1.0)
