@@ -5,9 +5,8 @@ Calibration is kept apart from validation. Only a value that no source gives may
 fitted, and only to V1 (:mod:`thesis.modelcheck.targets`); V2-V6 check the result and
 nothing is changed after seeing them. The procedure, fixed before any calibration run:
 
-* **Physics**: the model's chapter setting (``ch4.model``: dt 2.5 ms, 120 solver sweeps
-  in the ``blocks_first`` order at relaxation 1; below). The spring is varied on exactly
-  that model.
+* **Physics**: the model's chapter setting (``ch4.model``: dt 2.5 ms, 120 solver sweeps;
+  below). The spring is varied on exactly that model.
 * **Fitted value**: the knee's extension spring ``knee_spring`` [N m/rad] (preload
   unchanged). No source gives it (FACTS §5, the model's docstring); it sets the stance
   compression that §3.3.1.2 names as the reason the robot walks below the feet's
@@ -34,11 +33,8 @@ spring of 10 N m/rad): Tab. 3.1a walked 0.026-0.045 / 0.24-0.30 m/s at 0.5 / 1.5
 30 sweeps, 0.142 / 0.449 with 120, 0.147 / 0.454 with 240, and 0.149 / 0.457 with 120
 sweeps at dt / 2: from 120 sweeps on the speeds move by at most 5 % and the starts no
 longer differ; at 30 the feet slip and the speeds are 3-5x lower. ``model/convergence``
-checks the chosen setting on every published gait (three-valued, 30 starts). The sweep
-order came later: with the Jacobi order at relaxation 0.3 the table found the spline and
-Tab. 4.2's optimum not converged, and the scapulae unheld; blocks first, at relaxation 1,
-it finds no gait beyond tolerance (:mod:`thesis.physics.solver`). The fit was redone on
-that solver by this procedure (1.944 N m/rad on the former one).
+checks the chosen setting on every published gait (three-valued, 30 starts: converged on
+Tab. 3.1a's half ellipse, not converged on the spline and Tab. 4.2's optimum).
 """
 
 from __future__ import annotations
