@@ -28,73 +28,120 @@ def test_target_is_the_midpoint_of_the_thesis_s_two_speeds_of_tab3_1a():
     assert case["gait"] == "tab3_1a" and case["frequency"] == TG.V1_FREQUENCY == 1.5
 
 
-def test_fit_interpolates_linearly_in_log_k_between_the_bracketing_grid_points():
+def test_every_bracket_of_a_non_monotone_grid_is_found_stiffest_first():
     grid = [10.0, 5.0, 3.0, 2.0, 1.5, 1.0]
-    speeds = [0.449, 0.336, 0.358, 0.2897, 0.242, 0.011]
-    fit = CAL.fit_log_linear(grid, speeds, 0.285)
+    speeds = [0.460, 0.272, 0.356, 0.301, 0.256, 0.014]
+    assert CAL.brackets(grid, speeds, 0.285) == [
+        (10.0, 5.0, 0.460, 0.272), (5.0, 3.0, 0.272, 0.356), (2.0, 1.5, 0.301, 0.256)]
+    # the order of the grid does not matter; a fallen point (NaN) brackets nothing
+    assert CAL.brackets(grid[::-1], speeds[::-1], 0.285) == CAL.brackets(grid, speeds, 0.285)
+    assert CAL.brackets([10.0, 5.0, 2.0], [0.45, np.nan, 0.20], 0.30) == []
+    assert CAL.brackets([10.0, 5.0], [0.45, 0.40], 0.285) == []
+
+
+def test_log_secant_crosses_zero_on_the_line_in_log_k():
+    k = CAL.log_secant(2.0, 1.5, 0.2897 - 0.285, 0.242 - 0.285)
     t = (0.285 - 0.2897) / (0.242 - 0.2897)
-    want = math.exp(math.log(2.0) + t * (math.log(1.5) - math.log(2.0)))
-    assert fit["inside"] and fit["bracket"] == (2.0, 1.5)
-    assert fit["value"] == pytest.approx(want) and 1.5 < fit["value"] < 2.0
-    # grid order does not matter; an exact grid speed gives that grid point
-    assert CAL.fit_log_linear(grid[::-1], speeds[::-1], 0.285)["value"] == pytest.approx(want)
-    assert CAL.fit_log_linear(grid, speeds, 0.2897)["value"] == pytest.approx(2.0)
+    assert k == pytest.approx(math.exp(math.log(2.0) + t * (math.log(1.5) - math.log(2.0))))
+    assert 1.5 < k < 2.0
+    assert CAL.log_secant(4.0, 2.0, 0.0, -0.1) == pytest.approx(4.0)
+    assert CAL.log_secant(4.0, 2.0, 0.1, 0.1) == 4.0
 
 
-def test_fit_takes_the_first_bracket_from_the_stiffest_spring_and_skips_fallen_points():
-    # speed rises again at 3 (non-monotone): 0.34 is bracketed by 10-5 and by 5-3
-    fit = CAL.fit_log_linear([10.0, 5.0, 3.0, 2.0], [0.45, 0.32, 0.36, 0.29], 0.34)
-    assert fit["bracket"] == (10.0, 5.0)
-    # a fallen grid point (NaN) brackets nothing
-    fit = CAL.fit_log_linear([10.0, 5.0, 2.0], [0.45, np.nan, 0.20], 0.30)
-    assert not fit["inside"] and fit["value"] == 2.0
+def test_refine_finds_the_crossing_of_a_known_response_within_the_band():
+    # speed linear in log k: v = 0.1 + 0.1 ln k, crossing 0.285 at k = exp(1.85)
+    calls = []
+
+    def measure(k):
+        calls.append(k)
+        return 0.1 + 0.1 * math.log(k)
+
+    b = CAL.brackets([10.0, 5.0], [measure(10.0), measure(5.0)], 0.285)[0]
+    calls.clear()
+    runs = CAL.refine(measure, b, 0.285, (0.284, 0.286), steps=4)
+    assert len(runs) == 1 == len(calls)  # exact in log k: one secant step
+    assert runs[0][0] == pytest.approx(math.exp(1.85))
+    # a curved response: Illinois keeps the crossing bracketed and approaches it
+    runs = CAL.refine(lambda k: 0.05 * k ** 1.5, (5.0, 2.0, 0.05 * 5 ** 1.5, 0.05 * 2 ** 1.5),
+                      0.285, (0.2849, 0.2851), steps=20)
+    want = (0.285 / 0.05) ** (1 / 1.5)
+    assert abs(runs[-1][0] - want) < 1e-3 and len(runs) < 20
+    assert all(2.0 <= k <= 5.0 for k, _ in runs)
 
 
-def test_fit_outside_the_grid_is_the_nearest_point_and_says_so():
-    fit = CAL.fit_log_linear([10.0, 5.0], [0.45, 0.40], 0.285)
-    assert not fit["inside"] and fit["value"] == 5.0 and fit["bracket"] == (5.0, 5.0)
+def test_refine_stops_at_a_fall_and_skips_a_bracket_with_an_end_in_the_band():
+    runs = CAL.refine(lambda k: float("nan"), (10.0, 5.0, 0.45, 0.2), 0.285, (0.27, 0.30), 4)
+    assert len(runs) == 1 and math.isnan(runs[0][1])
+    assert CAL.refine(lambda k: 1 / 0, (10.0, 5.0, 0.29, 0.2), 0.285, (0.27, 0.30), 4) == []
+    assert CAL.refine(lambda k: 1 / 0, (10.0, 5.0, 0.45, 0.2), 0.285, (0.27, 0.30), 0) == []
+
+
+def test_choose_takes_the_run_nearest_the_target_and_the_earliest_on_a_tie():
+    assert CAL.choose([0.46, 0.272, np.nan, 0.29], 0.285) == 3
+    assert CAL.choose([0.5, 0.25], 0.375) == 0  # exact tie in binary
     with pytest.raises(ValueError, match="every run fell"):
-        CAL.fit_log_linear([10.0, 5.0], [np.nan, np.nan], 0.285)
+        CAL.choose([np.nan, np.nan], 0.285)
+
+
+def test_target_band_is_the_thesis_s_two_speeds():
+    assert CAL.target_band() == pytest.approx((0.27, 0.30))
 
 
 @pytest.fixture(scope="module")
 def tiny():
     config = load_config("smoke", overrides={"physics": {
-        "oncilla_calibration": dict(grid=[10.0, 2.0], starts=1, seconds=0.3),
+        "oncilla_calibration": dict(grid=[10.0, 2.0], starts=1, refinements=2, seconds=0.3),
         "oncilla_validation": dict(batch=4)}})
     ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
                           key="model/calibration", log=logging.getLogger("test"))
     return CAL.calibration(ctx), config
 
 
-def test_calibration_runs_the_grid_fits_and_measures_the_residual(tiny):
+def test_calibration_runs_the_grid_refines_each_bracket_and_fits_the_nearest_run(tiny):
     ds, config = tiny
     assert registry.resolve("model/calibration") is CAL.calibration
     assert list(ds["knee_spring"].values) == [10.0, 2.0] and ds.sizes["start"] == 1
     for name in ("grid_speed", "grid_fallen", "grid_gait_speed", "grid_compression",
-                 "target_speed", "fitted_knee_spring", "fit_inside_grid", "residual_speed",
+                 "refinement_knee_spring", "refinement_bracket", "refinement_speed",
+                 "refinement_fallen", "refinement_gait_speed", "bracket_stiff",
+                 "bracket_soft", "target_speed", "target_low", "target_high",
+                 "fitted_knee_spring", "fit_inside_grid", "fit_holds", "residual_speed",
                  "residual", "configured_knee_spring", "configured_matches_fit"):
         assert name in ds and "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
-    fit = CAL.fit_log_linear(ds["knee_spring"].values, ds["grid_gait_speed"].values,
-                             float(ds["target_speed"]))
-    assert float(ds["fitted_knee_spring"]) == pytest.approx(fit["value"])
-    assert float(ds["residual"]) == pytest.approx(
-        abs(float(ds["residual_speed"]) - CAL.target_speed()))
+    target = float(ds["target_speed"])
+    found = CAL.brackets(ds["knee_spring"].values, ds["grid_gait_speed"].values, target)
+    assert [(b[0], b[1]) for b in found] == list(zip(ds["bracket_stiff"].values,
+                                                      ds["bracket_soft"].values))
+    # every refinement run lies inside its bracket, at most `refinements` per bracket
+    for i, (hi, lo, _, _) in enumerate(found):
+        ks = ds["refinement_knee_spring"].values[ds["refinement_bracket"].values == i]
+        assert len(ks) <= 2 and all(lo <= k <= hi for k in ks)
+    # the fit is the run (grid or refinement) nearest the target, and its own speed
+    ks = np.concatenate([ds["knee_spring"].values, ds["refinement_knee_spring"].values])
+    vs = np.concatenate([ds["grid_gait_speed"].values, ds["refinement_gait_speed"].values])
+    i = CAL.choose(vs, target)
+    assert float(ds["fitted_knee_spring"]) == pytest.approx(ks[i])
+    assert float(ds["residual_speed"]) == pytest.approx(vs[i])
+    assert float(ds["residual"]) == pytest.approx(abs(vs[i] - target))
+    assert int(ds["fit_holds"]) == int(0.27 <= vs[i] <= 0.30)
     assert float(ds["configured_knee_spring"]) == config["ch4"]["model"]["knee_spring"]
     assert int(ds["configured_matches_fit"]) == int(
-        abs(config["ch4"]["model"]["knee_spring"] - fit["value"])
-        <= CAL.MATCH_TOLERANCE * fit["value"])
+        abs(config["ch4"]["model"]["knee_spring"] - ks[i]) <= CAL.MATCH_TOLERANCE * ks[i])
     # a softer knee spring compresses the stance leg more (§3.3.1.2's mechanism)
     comp = ds["grid_compression"].values[:, 0]
     assert comp[1] > comp[0]
     assert ds.attrs["solver_iterations"] == config["ch4"]["model"]["solver_iterations"]
+    assert ds.attrs["sweep_order"] == config["ch4"]["model"]["sweep_order"]
 
 
 def test_report_lists_the_grid_the_fit_and_whether_the_chapters_run_it(tiny):
     ds, _ = tiny
     t = RV.calibration_table({"model/calibration": ds})
-    assert [r[-1] for r in t.rows][:2] == ["grid", "grid"] and t.rows[-1][-1].startswith("fit")
+    roles = [r[-1] for r in t.rows]
+    assert roles[:2] == ["grid", "grid"] and roles[-1].startswith("fit")
+    assert sum(r.startswith("refinement of") for r in roles) == ds.sizes["refinement"]
     assert "residual" in t.note and "calibration target" in t.note
+    assert ("it holds" in t.note) == bool(int(ds["fit_holds"]))
     assert ("the fit." in t.note) == bool(int(ds["configured_matches_fit"]))
     assert RV.calibration_table({}).rows == [[RV.NOT_RUN] * 5]
 

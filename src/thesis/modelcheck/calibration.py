@@ -5,21 +5,34 @@ Calibration is kept apart from validation. Only a value that no source gives may
 fitted, and only to V1 (:mod:`thesis.modelcheck.targets`); V2-V6 check the result and
 nothing is changed after seeing them. The procedure, fixed before any calibration run:
 
-* **Physics**: the model's chapter setting (``ch4.model``: dt 2.5 ms, 120 solver sweeps;
-  below). The spring is varied on exactly that model.
+* **Physics**: the model's chapter setting (``ch4.model``: dt, solver sweeps, sweep order
+  and relaxation as configured). The spring is varied on exactly that model.
 * **Fitted value**: the knee's extension spring ``knee_spring`` [N m/rad] (preload
   unchanged). No source gives it (FACTS §5, the model's docstring); it sets the stance
   compression that §3.3.1.2 names as the reason the robot walks below the feet's
   theoretical speed.
 * **Target**: V1 alone: Tab. 3.1a's half ellipse at :data:`~thesis.modelcheck.targets.V1_FREQUENCY`
-  (1.5 Hz), the mean speed over ``starts`` perturbed starts (the validation's start kicks,
-  stream ``model/validation/starts``), against the midpoint of the thesis's two speeds for
-  it (0.27 and 0.30 m/s, :func:`target_speed`).
+  (1.5 Hz), the gait's speed over ``starts`` perturbed starts (the validation's start
+  kicks, stream ``model/validation/starts``; :func:`thesis.modelcheck.targets.gait_speed`),
+  against the midpoint of the thesis's two speeds for it (0.27 and 0.30 m/s,
+  :func:`target_speed`). The fit **holds** when the speed at the fit lies within those
+  two published speeds (:func:`target_band`): the thesis's own spread, not a tolerance
+  chosen here.
 * **Grid**: ``physics.oncilla_calibration.grid`` (default 10, the model's former value,
-  5, 3, 2, 1.5, 1). **Fit** (:func:`fit_log_linear`): speed interpolated linearly in
-  log k between the two neighbouring grid points that bracket the target; where none
-  bracket it, the grid point nearest the target (recorded as outside the grid).
-* **Residual**: one more run at the fitted value; |its speed - target|.
+  5, 3, 2, 1.5, 1).
+* **Brackets** (:func:`brackets`): every pair of neighbouring grid points (in the order of
+  k) whose speeds lie on both sides of the target. Speed need not be monotone in the
+  spring (on the blocks-first solver the grid's speeds rise and fall again), so every
+  bracket is refined, not the first one.
+* **Refinement** (:func:`refine`): in each bracket, up to ``refinements`` runs placed by
+  regula falsi in log k (the Illinois variant, :func:`log_secant`), keeping the target
+  bracketed; a bracket stops early once a run lands within the published speeds, or
+  when a run falls (no speed to interpolate).
+* **Fit** (:func:`choose`): of every run made (grid and refinements), the one whose speed
+  is nearest the target; ties go to the earlier run (grid before refinements, stiffest
+  first). Where no pair brackets the target, that is the grid point nearest it (recorded
+  as outside the grid). The runs are deterministic in their kicks, so the fit's own run
+  is its residual run: residual = |its speed - target|.
 * Then V2-V6 once (``model/validation``) on the fitted value at that setting.
 
 The fitted value is what ``ch3.model.knee_spring`` and ``ch4.model.knee_spring`` hold
@@ -40,6 +53,7 @@ Tab. 3.1a's half ellipse, not converged on the spline and Tab. 4.2's optimum).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import xarray as xr
@@ -59,8 +73,15 @@ GAIT = "tab3_1a"
 def target_speed() -> float:
     """V1's calibration target [m/s]: the midpoint of the thesis's two speeds of Tab. 3.1a
     at 1.5 Hz (§3.3.1.3's 0.27, §3.3.3's 0.30: :func:`thesis.modelcheck.targets.published_speeds`)."""
-    lo, hi = TG.published_speeds()["v1"]
+    lo, hi = target_band()
     return 0.5 * (lo + hi)
+
+
+def target_band() -> tuple[float, float]:
+    """(low, high) [m/s]: the thesis's two speeds of Tab. 3.1a at 1.5 Hz. A fit holds when
+    the speed at the fit lies within them (§3.3.1.3, §3.3.3)."""
+    lo, hi = TG.published_speeds()["v1"]
+    return float(min(lo, hi)), float(max(lo, hi))
 
 
 def v1_case() -> dict:
@@ -71,39 +92,83 @@ def v1_case() -> dict:
     return cs[0]
 
 
-def fit_log_linear(grid, speeds, target: float) -> dict:
-    """The procedure's fit of the knee spring to ``target``.
+def brackets(grid, speeds, target: float) -> list[tuple[float, float, float, float]]:
+    """Every pair of neighbouring grid points that brackets ``target``.
 
     Args:
         grid: (G,) knee spring values [N m/rad] (any order, > 0).
-        speeds: (G,) the gait's speed at each [m/s] (NaN: undefined, the gait fell).
+        speeds: (G,) the gait's speed at each [m/s] (NaN: undefined, the gait fell; such
+            a point brackets nothing).
         target: the speed to meet [m/s].
 
     Returns:
-        dict ``value`` [N m/rad], ``inside`` (True where two neighbouring grid points, in
-        the order of k, bracket the target and ``value`` is interpolated linearly in
-        log k between them; False: the finite grid point nearest the target), ``bracket``
-        (the two k, or the one nearest twice). Where several pairs bracket it (speed need
-        not be monotone in k), the first from the stiffest spring down is taken.
-
-    Raises:
-        ValueError: when no grid speed is finite.
+        ``(k_a, k_b, v_a, v_b)`` per bracket, k_a > k_b neighbours in the order of k and
+        min(v_a, v_b) <= target <= max(v_a, v_b); stiffest bracket first.
     """
     k = np.asarray(grid, np.float64)
     v = np.asarray(speeds, np.float64)
-    order = np.argsort(k)[::-1]  # stiffest first: the model's former value leads
+    order = np.argsort(k)[::-1]
     k, v = k[order], v[order]
-    if not np.isfinite(v).any():
-        raise ValueError("no grid point gave a speed: every run fell")
+    out = []
     for i in range(len(k) - 1):
         a, b = v[i], v[i + 1]
         if np.isfinite(a) and np.isfinite(b) and min(a, b) <= target <= max(a, b):
-            t = 0.0 if a == b else (target - a) / (b - a)
-            lk = math.log(k[i]) + t * (math.log(k[i + 1]) - math.log(k[i]))
-            return dict(value=float(math.exp(lk)), inside=True,
-                        bracket=(float(k[i]), float(k[i + 1])))
-    j = int(np.nanargmin(np.abs(v - target)))
-    return dict(value=float(k[j]), inside=False, bracket=(float(k[j]), float(k[j])))
+            out.append((float(k[i]), float(k[i + 1]), float(a), float(b)))
+    return out
+
+
+def log_secant(k_a: float, k_b: float, f_a: float, f_b: float) -> float:
+    """The spring [N m/rad] where the line through (log k_a, f_a) and (log k_b, f_b)
+    crosses zero (f: speed - target [m/s], of opposite signs or zero); k_a where
+    f_a == f_b."""
+    if f_a == f_b:
+        return float(k_a)
+    t = f_a / (f_a - f_b)
+    return float(math.exp(math.log(k_a) + t * (math.log(k_b) - math.log(k_a))))
+
+
+def refine(measure: Callable[[float], float], bracket, target: float,
+           band: tuple[float, float], steps: int) -> list[tuple[float, float]]:
+    """Regula falsi (Illinois) in log k inside one bracket.
+
+    Args:
+        measure: knee spring [N m/rad] -> the gait's speed there [m/s] (NaN: it fell).
+        bracket: ``(k_a, k_b, v_a, v_b)`` of :func:`brackets`.
+        target: the speed to meet [m/s].
+        band: (low, high) [m/s]; a run inside it ends the refinement.
+        steps: most runs made.
+
+    Returns:
+        ``(k, speed)`` of every run made, in order (none when an end of the bracket already
+        lies in ``band``).
+    """
+    k_a, k_b, v_a, v_b = bracket
+    f_a, f_b = v_a - target, v_b - target
+    runs: list[tuple[float, float]] = []
+    if any(band[0] <= v <= band[1] for v in (v_a, v_b)):
+        return runs
+    for _ in range(int(steps)):
+        k_c = log_secant(k_a, k_b, f_a, f_b)
+        v_c = float(measure(k_c))
+        runs.append((k_c, v_c))
+        if not np.isfinite(v_c) or band[0] <= v_c <= band[1]:
+            break
+        f_c = v_c - target
+        if f_c * f_b < 0:  # the sign changed: the new bracket is (b, c)
+            k_a, f_a = k_b, f_b
+        else:  # the same side as b: keep a, halved (Illinois), so a is not stuck
+            f_a *= 0.5
+        k_b, f_b = k_c, f_c
+    return runs
+
+
+def choose(speeds, target: float) -> int:
+    """Index of the run whose speed [m/s] is nearest ``target`` (NaN never; ties: the
+    earliest). Raises ValueError when no speed is finite."""
+    v = np.asarray(speeds, np.float64)
+    if not np.isfinite(v).any():
+        raise ValueError("no run gave a speed: every run fell")
+    return int(np.nanargmin(np.abs(v - target)))
 
 
 def _measure(full: dict, knee_spring: float, case: dict, kicks, *, settle, seconds,
@@ -125,63 +190,103 @@ def calibration(ctx) -> xr.Dataset:
     seconds, batch = float(ccfg["seconds"]), int(vcfg["batch"])
     case = v1_case()
     kicks = V.start_kicks(ctx.root_seed, int(ccfg["starts"]), float(vcfg["start_velocity"]))
-    target = target_speed()
+    target, band = target_speed(), target_band()
     grid = [float(k) for k in ccfg["grid"]]
-    speeds, fallen, comp, walls = [], [], [], []
+    runs: list[dict] = []  # every run, grid first: k, speed (S,), fallen (S,), ...
     model = None
-    for k in grid:
+
+    def run(k: float, role: str) -> float:
+        nonlocal model
         m, model = _measure(full, k, case, kicks, settle=settle, seconds=seconds,
                             fall_height=fall_height, batch=batch)
-        ctx.log.info("calibration: knee_spring %.4g N m/rad: %s m/s (%.1f s)", k,
-                     np.round(m["speed"][0], 3).tolist(), m["wall"])
-        speeds.append(m["speed"][0])
-        fallen.append(m["fallen"][0])
-        comp.append(m["compression"][0])
-        walls.append(m["wall"])
-    gait = np.array([TG.gait_speed(s, f) for s, f in zip(speeds, fallen)])
-    fit = fit_log_linear(grid, gait, target)
-    r, _ = _measure(full, fit["value"], case, kicks, settle=settle, seconds=seconds,
-                    fall_height=fall_height, batch=batch)
-    walls.append(r["wall"])
-    res_speed = TG.gait_speed(r["speed"][0], r["fallen"][0])
+        gait = TG.gait_speed(m["speed"][0], m["fallen"][0])
+        ctx.log.info("calibration (%s): knee_spring %.4g N m/rad: %s m/s, gait %.3f "
+                     "(%.1f s)", role, k, np.round(m["speed"][0], 3).tolist(), gait,
+                     m["wall"])
+        runs.append(dict(k=float(k), speed=m["speed"][0], fallen=m["fallen"][0],
+                         comp=m["compression"][0], gait=gait, wall=m["wall"]))
+        return gait
+
+    for k in grid:
+        run(k, "grid")
+    grid_runs = list(runs)
+    found = brackets(grid, [r["gait"] for r in grid_runs], target)
+    which = []  # the bracket of each refinement run
+    for i, b in enumerate(found):
+        role = f"bracket {b[0]:.4g}-{b[1]:.4g}"
+        made = refine(lambda k, role=role: run(k, role), b, target, band,
+                      int(ccfg["refinements"]))
+        which += [i] * len(made)
+    best = runs[choose([r["gait"] for r in runs], target)]
+    fit = best["k"]
+    res_speed = best["gait"]
+    holds = bool(np.isfinite(res_speed) and band[0] <= res_speed <= band[1])
     configured = float(full["ch4"]["model"]["knee_spring"])
-    matches = abs(configured - fit["value"]) <= MATCH_TOLERANCE * fit["value"]
-    ctx.log.info("calibration: fit %.4g N m/rad (inside grid: %s), residual run %.3f m/s "
-                 "against %.3f; configured %.4g", fit["value"], fit["inside"], res_speed,
-                 target, configured)
+    matches = abs(configured - fit) <= MATCH_TOLERANCE * fit
+    ctx.log.info("calibration: %d bracket(s), fit %.4g N m/rad, speed %.3f m/s against "
+                 "%.3f (holds: %s, within %.3f-%.3f); configured %.4g", len(found), fit,
+                 res_speed, target, holds, band[0], band[1], configured)
+    refined = runs[len(grid_runs):]
     K, KS = ("knee_spring",), ("knee_spring", "start")
+    R, RS = ("refinement",), ("refinement", "start")
+    n_start = len(kicks)
+
+    def per_run(rs, name, dtype=np.float64):  # (R,) or (R, S) of the runs ``rs``
+        shape = (len(rs),) if name in ("k", "gait") else (len(rs), n_start)
+        return np.asarray([r[name] for r in rs], dtype).reshape(shape)
+
     a = V._a
     data = dict(
-        grid_speed=(KS, np.asarray(speeds), a("m s-1", "window speed of each start")),
-        grid_fallen=(KS, np.asarray(fallen).astype(np.int8), a("1", "1 if the start fell")),
-        grid_gait_speed=(K, gait, a("m s-1", "the gait's speed: mean over the starts that "
-                                             "stayed up (NaN: fewer than half)")),
-        grid_compression=(KS, np.asarray(comp), a("m", "stance compression: commanded minus "
-                                                       "simulated hip-to-toe length")),
+        grid_speed=(KS, per_run(grid_runs, "speed"), a("m s-1", "window speed of each start")),
+        grid_fallen=(KS, per_run(grid_runs, "fallen", np.int8), a("1", "1 if the start fell")),
+        grid_gait_speed=(K, per_run(grid_runs, "gait"), a(
+            "m s-1", "the gait's speed: mean over the starts that stayed up (NaN: fewer "
+                     "than half)")),
+        grid_compression=(KS, per_run(grid_runs, "comp"), a(
+            "m", "stance compression: commanded minus simulated hip-to-toe length")),
+        refinement_knee_spring=(R, per_run(refined, "k"), a(
+            "N m rad-1", "knee spring of each refinement run (regula falsi in log k)")),
+        refinement_bracket=(R, np.asarray(which, np.int16), a(
+            "1", "index of the bracket refined (the bracket coordinate)")),
+        refinement_speed=(RS, per_run(refined, "speed"), a(
+            "m s-1", "window speed of each start of each refinement run")),
+        refinement_fallen=(RS, per_run(refined, "fallen", np.int8), a("1", "1 if the start fell")),
+        refinement_gait_speed=(R, per_run(refined, "gait"), a(
+            "m s-1", "the gait's speed of each refinement run")),
+        bracket_stiff=(("bracket",), np.asarray([b[0] for b in found]), a(
+            "N m rad-1", "the stiffer grid point of each bracket")),
+        bracket_soft=(("bracket",), np.asarray([b[1] for b in found]), a(
+            "N m rad-1", "the softer grid point of each bracket")),
         target_speed=((), target, a("m s-1", "V1's midpoint: the calibration target")),
-        fitted_knee_spring=((), fit["value"], a("N m rad-1", "the procedure's fit")),
-        fit_inside_grid=((), int(fit["inside"]), a("1", "1 if two grid points bracket the "
-                                                        "target (interpolated fit)")),
+        target_low=((), band[0], a("m s-1", "the lower of the thesis's two speeds")),
+        target_high=((), band[1], a("m s-1", "the higher of the thesis's two speeds")),
+        fitted_knee_spring=((), fit, a("N m rad-1", "the procedure's fit: the run nearest "
+                                                    "the target")),
+        fit_inside_grid=((), int(bool(found)), a("1", "1 if two grid points bracket the "
+                                                      "target")),
+        fit_holds=((), int(holds), a("1", "1 if the speed at the fit lies within the "
+                                          "thesis's two speeds")),
         residual_speed=((), res_speed, a("m s-1", "the gait's speed at the fitted spring")),
-        residual_start_speed=(("start",), r["speed"][0], a("m s-1", "window speed of each "
-                                                                   "start at the fit")),
+        residual_start_speed=(("start",), np.asarray(best["speed"], np.float64), a(
+            "m s-1", "window speed of each start at the fit")),
         residual=((), abs(res_speed - target), a("m s-1", "|speed at the fit - target|")),
         configured_knee_spring=((), configured, a("N m rad-1", "ch4.model.knee_spring: the "
                                                                "value the chapters run")),
         configured_matches_fit=((), int(matches), a(
             "1", f"1 if the configured spring is within {MATCH_TOLERANCE:.0%} of the fit")),
-        rollout_wall_seconds=((), float(sum(walls)), a(
+        rollout_wall_seconds=((), float(sum(r["wall"] for r in runs)), a(
             "s", "wall time of the rollouts, compilation included", **store.WALL_CLOCK)),
     )
     ds = xr.Dataset(data, coords=dict(knee_spring=np.asarray(grid),
-                                      start=np.arange(len(kicks))))
+                                      start=np.arange(n_start)))
     ds["knee_spring"].attrs.update(units="N m rad-1", long_name="knee spring of the grid")
     ds.attrs.update(
         title="Calibration of the simulated Oncilla's knee spring to V1 alone",
         thesis_ref="Tab. 3.1a, §3.3.1.2-3, §3.3.3",
         seeds=[int(ctx.root_seed)], settle=settle, transition=M.SELF_TRANSITION,
         seconds=seconds, fall_height=fall_height, untethered=1, floor="flat",
-        gait=GAIT, frequency=float(case["frequency"]),
+        gait=GAIT, frequency=float(case["frequency"]), refinements=int(ccfg["refinements"]),
         dt=float(model.dt), solver_iterations=int(model.solver_iterations),
-        bracket=list(fit["bracket"]), model_code_sha256=M.model_code_sha256())
+        sweep_order=str(model.sweep_order), relaxation=float(model.relaxation),
+        model_code_sha256=M.model_code_sha256())
     return ds

@@ -241,8 +241,9 @@ def convergence_cases_table(results: dict) -> Table:
 
 
 def calibration_table(results: dict) -> Table:
-    """The fitted knee spring: the grid, the fit, its residual and the value the chapters
-    run (every fitted value with its fit and residual, issue 53 item 4)."""
+    """The fitted knee spring: the grid, the refinement runs in each bracket, the fit, its
+    residual, whether it holds and the value the chapters run (every fitted value with its
+    fit and residual, issue 53 item 4)."""
     ds = results.get(CALIBRATION)
     cols = ["knee spring [N m/rad]", "speed [m/s] (starts)", "fallen",
             "stance compression [mm]", "role"]
@@ -251,28 +252,46 @@ def calibration_table(results: dict) -> Table:
     if ds is None:
         return Table(id="oncilla_calibration", title=title, thesis_ref=ref, columns=cols,
                      rows=[[NOT_RUN] * len(cols)])
+
+    def speeds(gait, sp):
+        return f"{fmt(float(gait), 3)} ({', '.join(fmt(v, 3) for v in sp)})"
+
     rows = []
     for k in ds["knee_spring"].values:
         d = ds.sel(knee_spring=k)
         sp = d["grid_speed"].values
         comp = d["grid_compression"].values
-        rows.append([fmt(float(k), 3),
-                     f"{fmt(float(d['grid_gait_speed']), 3)} ({', '.join(fmt(v, 3) for v in sp)})",
+        rows.append([fmt(float(k), 3), speeds(d["grid_gait_speed"], sp),
                      f"{int(d['grid_fallen'].sum())} / {len(sp)}",
                      fmt(1e3 * float(np.nanmean(comp)) if np.isfinite(comp).any() else np.nan, 3),
                      "grid"])
+    for i in range(ds.sizes.get("refinement", 0)):
+        d = ds.isel(refinement=i)
+        b = int(d["refinement_bracket"])
+        sp = d["refinement_speed"].values
+        role = (f"refinement of {fmt(float(ds['bracket_stiff'][b]), 3)}-"
+                f"{fmt(float(ds['bracket_soft'][b]), 3)}")
+        rows.append([fmt(float(d["refinement_knee_spring"]), 4),
+                     speeds(d["refinement_gait_speed"], sp),
+                     f"{int(d['refinement_fallen'].sum())} / {len(sp)}", "—", role])
     fit = float(ds["fitted_knee_spring"])
-    rows.append([fmt(fit, 4), f"{fmt(float(ds['residual_speed']), 3)} ("
-                 + ", ".join(fmt(v, 3) for v in ds["residual_start_speed"].values) + ")",
+    holds = bool(int(ds["fit_holds"]))
+    rows.append([fmt(fit, 4), speeds(ds["residual_speed"], ds["residual_start_speed"].values),
                  "—", "—", "fit" + ("" if int(ds["fit_inside_grid"]) else
                                     " (no bracket: the nearest grid point)")])
     conf = float(ds["configured_knee_spring"])
     note = (f"target {fmt(float(ds['target_speed']), 3)} m/s (V1's midpoint), Tab. 3.1a at "
             f"{ds.attrs.get('frequency')} Hz, {int(ds.sizes['start'])} perturbed starts, "
             f"dt {fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
-            f"{ds.attrs.get('solver_iterations')} sweeps. Fit {fmt(fit, 4)} N m/rad by "
-            f"log-linear interpolation; residual {fmt(float(ds['residual']), 3)} m/s. The "
-            f"chapters run {fmt(conf, 4)} N m/rad (ch4.model.knee_spring): "
+            f"{ds.attrs.get('solver_iterations')} sweeps ({ds.attrs.get('sweep_order')}, "
+            f"relaxation {ds.attrs.get('relaxation')}). {ds.sizes.get('bracket', 0)} "
+            f"bracket(s), each refined by regula falsi in log k; the fit is the run nearest "
+            f"the target: {fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "
+            + (f"it holds (within the thesis's {fmt(float(ds['target_low']), 3)}-"
+               f"{fmt(float(ds['target_high']), 3)} m/s). " if holds else
+               f"it does NOT hold (outside the thesis's {fmt(float(ds['target_low']), 3)}-"
+               f"{fmt(float(ds['target_high']), 3)} m/s). ")
+            + f"The chapters run {fmt(conf, 4)} N m/rad (ch4.model.knee_spring): "
             + ("the fit." if int(ds["configured_matches_fit"]) else
                "NOT the fit: the configured spring differs from what the procedure gives "
                "on this profile's model.")
