@@ -30,8 +30,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
              "segment lengths, hip and knee drive stiffness and foot friction are assumed, "
              "each with its reason in thesis.physics.models.oncilla; the time step and the "
-             "solver sweeps (ch3.model) are the sweep ladder's setting (not converged on the "
-             "spline and Tab. 4.2 gaits: model/convergence), and "
+             "solver (ch3.model: 120 sweeps, blocks first) is the one model/convergence "
+             "finds no published gait beyond tolerance on (inconclusive, not converged), and "
              "the knee spring is fitted (ch3.knee_spring_fitted). The hind "
              "legs are the fore legs scaled to a 182 mm reach (the hind feet of Tab. "
              "4.2-4.4's optima reach 181.9 mm from the hip) with 2200/1850 of their knee "
@@ -41,7 +41,8 @@ DEPARTURES: tuple[Departure, ...] = (
         why="The thesis and public sources give only part of the robot (FACTS §5, "
             "ONCILLA.md); of the values no source gives, only the knee spring is fitted "
             "to a result of the thesis.",
-        config=("ch3.model.dt", "ch3.model.solver_iterations"),
+        config=("ch3.model.dt", "ch3.model.solver_iterations", "ch3.model.sweep_order",
+                "ch3.model.relaxation"),
     ),
     Departure(
         id="ch3.knee_spring_fitted", kind="choice", results=_ALL,

@@ -86,22 +86,18 @@ its reason; nothing is fitted to a result of the thesis):
   thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
   physical (as did halving dt, at twice the cost). Those were this function's defaults
   (30 sweeps, ``sweep_order="jacobi"``, relaxation 0.3), which the smoke profile keeps.
-  **The chapters' solver** (``ch3/ch4/ch6.model``): 120 sweeps in the Jacobi order at
-  relaxation 0.3. **Not converged** on the published splines: the servo and limit rows of
-  the scapula/hip joint converge slowly (:mod:`thesis.physics.solver`, Sweep order). At
-  120 sweeps the scapulae swing up to 8 deg off their command (V6) and Tab. 3.1b walks
-  0.31 m/s at 1.5 Hz, against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
-  scapulae within 3 / 1 deg (the half ellipse moves by at most 4 %); relaxation 0.5
-  diverges. The ``blocks_first`` order at relaxation 1.0 (``sweep_order``,
-  ``relaxation``) gives the 960-sweep speeds and holds the scapulae within 1 deg in 120
-  sweeps, at about the same cost per sweep, and ``model/convergence`` then finds no
-  published gait beyond tolerance. It is not the chapters' solver: the knee spring's
-  committed calibration (:mod:`thesis.modelcheck.calibration`) fails on it, as V1's
-  speed is not monotonic in the spring there (10 / 5 / 3 / 2 / 1.5 N m/rad walk 0.46 /
-  0.27 / 0.36 / 0.30 / 0.26 m/s) and the procedure's first bracket gives 5.24 N m/rad
-  with a 21 % residual. **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps
-  the Jacobi order (120 sweeps then give about 480's speeds) but does not converge the
-  table.
+  **The chapters' solver** (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first``
+  order at relaxation 1.0 (:mod:`thesis.physics.solver`, Sweep order). In the Jacobi
+  order the servo and limit rows of the scapula/hip joint converge slowly: at 120 sweeps
+  the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline walked
+  0.31 m/s at 1.5 Hz against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
+  scapulae within 3 / 1 deg (the half ellipse moved by at most 4 %). Blocks first at
+  relaxation 1.0, 120 sweeps give the 960-sweep speeds and hold the scapulae within
+  1 deg at about the Jacobi order's cost per sweep; relaxation 0.5 in the Jacobi order
+  diverges. ``model/convergence`` then finds no published gait beyond tolerance under
+  twice the sweeps or half the step (inconclusive on the gaits that fall in part of
+  their starts). **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps the
+  Jacobi order (120 sweeps then give about 480's speeds) but was not needed.
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
   motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
@@ -135,7 +131,7 @@ its reason; nothing is fitted to a result of the thesis):
   assumed generic rubber value: no source gives the toes' material); nothing was changed
   or fitted on that estimate. With the Jacobi order the table found the published gaits
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
-  ``stance_cable_taut`` of the validation) not converged; in the ``blocks_first`` order
+  ``stance_cable_taut`` of the validation) not converged; with the chapters' solver
   (Solver above) no gait is beyond tolerance.
 * **Not revised** (the source gives them, the model does not have them yet): the foot
   plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot). A plate
