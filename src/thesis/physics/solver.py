@@ -14,17 +14,18 @@ parallel from the same velocities, with a relaxation factor ``model.relaxation``
 projected on their bounds (friction bounds use the just-projected normal impulse), for a
 static ``model.solver_iterations`` sweeps (``lax.fori_loop``, reverse-differentiable).
 
-Sweep order (``model.sweep_order``). ``"jacobi"`` (the default, every model of
-chapters 5 and 7): blocks and rows all update from the same velocities. ``"blocks_first"``:
-the joint blocks update first, then every scalar row from the velocities the new block
-impulses give (Gauss-Seidel between the two groups, Jacobi within each); each group's
-impulses are scattered to the bodies once per sweep, as in ``"jacobi"``. A joint's servo
-and limit rows act on the same two bodies as its block; updated from the same velocities,
-block and row each correct the same residual and overshoot, which only a small relaxation
-damps. On the Oncilla (a light leg on a universal joint under a 4-kg trunk) that left the
-scapula servo rows 20-30 % from their solution after 120 sweeps at relaxation 0.3; blocks
-first, at relaxation 1.0, 120 sweeps bring every row group within 3 %
-(``thesis.physics.models.oncilla``, Solver; ``tests/physics/test_solver.py``).
+Sweep order (``model.sweep_order``). ``"jacobi"`` (the default, every model of chapters 5
+and 7): blocks and rows all update from the same velocities. ``"blocks_first"`` (the
+Oncilla's of chapters 3, 4 and 6): the joint blocks update first, then every scalar row
+from the velocities the new block impulses give (Gauss-Seidel between the two groups,
+Jacobi within each); each group's impulses are scattered to the bodies once per sweep, as
+in ``"jacobi"``. A joint's servo and limit rows act on the same two bodies as its block;
+updated from the same velocities, block and row each correct the same residual and
+overshoot, which only a small relaxation damps. On the Oncilla (a light leg on a universal
+joint under a 4-kg trunk) that left the scapula servo rows 20-30 % from their solution
+after 120 sweeps at relaxation 0.3; blocks first, at relaxation 1.0, 120 sweeps bring
+every row group within 3 % (``thesis.physics.models.oncilla``, Solver;
+``tests/physics/test_solver.py``).
 
 Friction cone. The two friction rows of a contact are projected together (:func:`cone`):
 their impulse pair is scaled radially onto the disc of radius ``mu lambda_n`` (the
