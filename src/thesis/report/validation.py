@@ -285,8 +285,9 @@ def calibration_table(results: dict) -> Table:
             f"dt {fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
             f"{ds.attrs.get('solver_iterations')} sweeps ({ds.attrs.get('sweep_order')}, "
             f"relaxation {ds.attrs.get('relaxation')}). {ds.sizes.get('bracket', 0)} "
-            f"bracket(s), each refined by regula falsi in log k; the fit is the run nearest "
-            f"the target: {fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "
+            f"bracket(s), each refined by regula falsi in log k unless one of its ends already "
+            f"lies within the thesis's speeds; the fit is the run nearest the target: "
+            f"{fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "
             + (f"it holds (within the thesis's {fmt(float(ds['target_low']), 3)}-"
                f"{fmt(float(ds['target_high']), 3)} m/s). " if holds else
                f"it does NOT hold (outside the thesis's {fmt(float(ds['target_low']), 3)}-"
