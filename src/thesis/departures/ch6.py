@@ -35,8 +35,8 @@ DEPARTURES: tuple[Departure, ...] = (
                "speed; its parameters are not printed.",
         ours="Fixed teachers (ch6.teacher.fixed): chapter 3's spline loci from its default "
              "run on the calibrated model of chapters 3 and 4 under the pinned arithmetic, at the "
-             "thesis's frequency: the trot seed 0's optimum at 0.75 of its stride, the walk "
-             "seed 1's at its full stride, the two that a screen of chapter 3's optima "
+             "thesis's frequency: the trot seed 2's optimum at 0.75 of its stride, the walk "
+             "seed 1's at 0.75 of its stride, the two that a screen of chapter 3's optima "
              "(every family, seed and stride scale, through the whole protocol including "
              "the power-off) chooses. "
              "They run through that screen as a check (stays up, walks again after "
