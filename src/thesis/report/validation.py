@@ -280,6 +280,7 @@ def calibration_table(results: dict) -> Table:
                  "—", "—", "fit" + ("" if int(ds["fit_inside_grid"]) else
                                     " (no bracket: the nearest grid point)")])
     conf = float(ds["configured_knee_spring"])
+    band = f"{fmt(float(ds['target_low']), 3)}-{fmt(float(ds['target_high']), 3)}"
     note = (f"target {fmt(float(ds['target_speed']), 3)} m/s (V1's midpoint), Tab. 3.1a at "
             f"{ds.attrs.get('frequency')} Hz, {int(ds.sizes['start'])} perturbed starts, "
             f"dt {fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
@@ -288,10 +289,8 @@ def calibration_table(results: dict) -> Table:
             f"bracket(s), each refined by regula falsi in log k unless one of its ends already "
             f"lies within the thesis's speeds; the fit is the run nearest the target: "
             f"{fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "
-            + (f"it holds (within the thesis's {fmt(float(ds['target_low']), 3)}-"
-               f"{fmt(float(ds['target_high']), 3)} m/s). " if holds else
-               f"it does NOT hold (outside the thesis's {fmt(float(ds['target_low']), 3)}-"
-               f"{fmt(float(ds['target_high']), 3)} m/s). ")
+            + ("it holds (within" if holds else "it does NOT hold (outside")
+            + f" the thesis's {band} m/s). "
             + f"The chapters run {fmt(conf, 4)} N m/rad (ch4.model.knee_spring): "
             + ("the fit." if int(ds["configured_matches_fit"]) else
                "NOT the fit: the configured spring differs from what the procedure gives "
