@@ -29,9 +29,13 @@ DEPARTURES: tuple[Departure, ...] = (
              "for them); the hind legs are the fore legs scaled to a 182 mm reach with more "
              "knee range (a choice from Tab. 4.2-4.4's hind feet and the backend's motor "
              "counts, ch3.oncilla_model), and the feet are points. Time step and solver "
-             "solver are chapter 3's (ch4.model; model/convergence: no published gait beyond "
+             "are chapter 3's (ch4.model; model/convergence: no published gait beyond "
              "tolerance, inconclusive); the knee spring is fitted to "
-             "Tab. 3.1a's speed (ch4.knee_spring_fitted).",
+             "Tab. 3.1a's speed (ch4.knee_spring_fitted). On the pebble field that solver "
+             "(blocks first, relaxation 1.0) explodes: all 20 first-generation evaluations "
+             "of one seed's transferred swarm went non-finite or unphysical, where the "
+             "former Jacobi order at 0.3 kept all 20 physical. So transfer_pebbly stops "
+             "without a result and the claims that read it are not run.",
         why="The hardware is out of reach; absolute speeds differ from the robot's, so the "
             "claims compare transfer against no transfer, not speeds against the thesis's.",
         config=("ch4.model.dt", "ch4.model.solver_iterations", "ch4.model.sweep_order",
