@@ -150,13 +150,13 @@ def refine(measure: Callable[[float], float], bracket, target: float,
     k_a, k_b, v_a, v_b = bracket
     f_a, f_b = v_a - target, v_b - target
     runs: list[tuple[float, float]] = []
-    if TG._in(v_a, *band) or TG._in(v_b, *band):
+    if TG.within(v_a, *band) or TG.within(v_b, *band):
         return runs
     for _ in range(int(steps)):
         k_c = log_secant(k_a, k_b, f_a, f_b)
         v_c = float(measure(k_c))
         runs.append((k_c, v_c))
-        if not np.isfinite(v_c) or TG._in(v_c, *band):
+        if not np.isfinite(v_c) or TG.within(v_c, *band):
             break
         f_c = v_c - target
         if f_c * f_b < 0:  # the sign changed: the new bracket is (b, c)
@@ -225,7 +225,7 @@ def calibration(ctx) -> xr.Dataset:
     best = runs[choose([r["gait"] for r in runs], target)]
     fit = best["k"]
     res_speed = best["gait"]
-    holds = TG._in(res_speed, *band)
+    holds = TG.within(res_speed, *band)
     configured = float(full["ch4"]["model"]["knee_spring"])
     matches = abs(configured - fit) <= MATCH_TOLERANCE * fit
     ctx.log.info("calibration: %d bracket(s), fit %.4g N m/rad, speed %.3f m/s against "

@@ -171,7 +171,9 @@ def gait_speed(speeds, fallen) -> float:
     return float(s[up].mean())
 
 
-def _in(x: float, lo: float, hi: float) -> bool:
+def within(x: float, lo: float, hi: float) -> bool:
+    """True where ``x`` is finite and lies in [lo, hi] (a speed within its accepted range;
+    also the calibration's "the fit holds")."""
     return bool(np.isfinite(x) and lo <= x <= hi)
 
 
@@ -209,7 +211,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
     # V1
     lo, hi = speed_bounds(*pub["v1"])
     v = speed.get(("tab3_1a", V1_FREQUENCY), float("nan"))
-    out["V1"] = _result(_in(v, lo, hi), {f"speed_{V1_FREQUENCY:g}Hz": v},
+    out["V1"] = _result(within(v, lo, hi), {f"speed_{V1_FREQUENCY:g}Hz": v},
                         {"low": lo, "high": hi},
                         f"Tab. 3.1a at {V1_FREQUENCY:g} Hz: {v:.3f} m/s, accepted "
                         f"{lo:.3f}-{hi:.3f}")
@@ -220,7 +222,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
         v = speed.get(("tab3_1b", f), float("nan"))
         meas[f"speed_{f:g}Hz"] = v
         bnd[f"low_{f:g}Hz"], bnd[f"high_{f:g}Hz"] = lo, hi
-        ok &= _in(v, lo, hi)
+        ok &= within(v, lo, hi)
     out["V2"] = _result(ok, meas, bnd, "Tab. 3.1b: " + ", ".join(
         f"{meas[f'speed_{f:g}Hz']:.3f} m/s at {f:g} Hz (accepted {bnd[f'low_{f:g}Hz']:.3f}-"
         f"{bnd[f'high_{f:g}Hz']:.3f})" for f in pub["v2"]))
