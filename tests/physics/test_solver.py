@@ -166,3 +166,51 @@ def test_blocks_first_sweeps_reach_the_same_solution_far_sooner(x64):
 def test_an_unknown_sweep_order_is_refused_with_the_allowed_ones():
     with pytest.raises(ValueError, match="sweep_order must be one of.*jacobi.*blocks_first"):
         Builder("x", sweep_order="gauss_seidel")
+
+
+def _foot_on_three_contacts():
+    """A light frictionless foot pressed into the floor on three nearly coincident contact
+    spheres (a toe touching the floor and two pebbles at once), and its direct solution."""
+    b = Builder("foot", dt=0.0025, relaxation=1.0)
+    b.add_material("m", 0.0, 0.0, 100.0, 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, "m")
+    b.add_box("foot", (0.02, 0.02, 0.02), (0, 0, 0.0095), mass=0.05)
+    for x, y in ((0.002, 0.0), (-0.001, 0.0017), (-0.001, -0.0017)):
+        b.add_contact_sphere("foot", 0.01, (x, y, 0.0))
+    b.set_velocity("foot", (0, 0, -0.5), (0, 0, 0))
+    m, s = b.build(jnp.float64)
+    problem = _problem(m, s)
+    jmat, minv, a, rhs, _ = _dense(m, *problem)
+    n = 3  # the normal rows come first; the friction rows carry mu = 0
+    assert np.all(np.asarray(problem[4]["hi"][:n]) > 0)
+    lam = np.zeros(a.shape[0])
+    lam[:n] = np.linalg.solve(a[:n, :n], rhs[:n])
+    assert np.all(lam[:n] > 0)  # every contact pushes: the active set is all three
+    return m, problem, np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ lam
+
+
+def test_contact_relaxation_settles_several_contacts_on_one_light_body(x64):
+    """Three contacts on one foot updated in parallel at relaxation 1 overshoot together
+    and never settle; the contact rows' own relaxation 0.5 reaches the direct solution
+    (solver module docstring, Contact relaxation)."""
+    m, problem, v_direct = _foot_on_three_contacts()
+    scale = np.abs(v_direct - np.asarray(problem[0]).reshape(-1)).max()
+    err = {r: [np.abs(_solve(m.replace(contact_relaxation=r), problem, k) - v_direct).max()
+               / scale for k in (119, 120)] for r in (None, 0.5)}
+    print(err)
+    assert min(err[None]) > 0.3, err
+    assert max(err[0.5]) < 1e-6, err
+
+
+def test_contact_relaxation_equal_to_relaxation_changes_nothing(x64):
+    m, problem, _ = _foot_on_three_contacts()
+    for order in ("jacobi", "blocks_first"):
+        mk = m.replace(sweep_order=order, relaxation=jnp.asarray(0.7))
+        np.testing.assert_array_equal(_solve(mk.replace(contact_relaxation=0.7), problem, 30),
+                                      _solve(mk, problem, 30))
+
+
+@pytest.mark.parametrize("value", [0.0, 1.5, -0.2])
+def test_a_contact_relaxation_outside_0_1_is_refused(value):
+    with pytest.raises(ValueError, match=r"contact_relaxation must be None or in \(0, 1\]"):
+        Builder("x", contact_relaxation=value)

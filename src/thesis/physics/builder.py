@@ -107,6 +107,8 @@ class Builder:
         sweep_order: ``"jacobi"`` (default: every joint block and scalar row updated from
             the same velocities) or ``"blocks_first"`` (the joint blocks, then the scalar
             rows from the velocities the new block impulses give); see ``solver.py``.
+        contact_relaxation: None (default: ``relaxation``) or the relaxation factor of the
+            contact rows alone (``solver.py``, Contact relaxation).
         joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
             :data:`JOINT_HZ`, ratio 1); physical, independent of dt.
         limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).
@@ -124,7 +126,7 @@ class Builder:
                  limit_hz=None, limit_zeta=1.0, reortho_iterations=1,
                  restitution_threshold=None, contact_slop=0.0, friction=0.5,
                  restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False,
-                 sweep_order="jacobi"):
+                 sweep_order="jacobi", contact_relaxation=None):
         self.name = name
         self.dt = float(dt)
         self.solver_iterations = int(solver_iterations)
@@ -134,6 +136,11 @@ class Builder:
         if sweep_order not in SWEEP_ORDERS:
             raise ValueError(f"sweep_order must be one of {SWEEP_ORDERS}, got {sweep_order!r}")
         self.sweep_order = str(sweep_order)
+        if contact_relaxation is not None and not 0.0 < float(contact_relaxation) <= 1.0:
+            raise ValueError(f"contact_relaxation must be None or in (0, 1], got "
+                             f"{contact_relaxation!r}")
+        self.contact_relaxation = (None if contact_relaxation is None
+                                   else float(contact_relaxation))
         self.joint_hz = JOINT_HZ if joint_hz is None else float(joint_hz)
         self.joint_zeta = float(joint_zeta)
         self.limit_hz = LIMIT_HZ if limit_hz is None else float(limit_hz)

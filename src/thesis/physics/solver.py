@@ -27,6 +27,14 @@ after 120 sweeps at relaxation 0.3; blocks first, at relaxation 1.0, 120 sweeps 
 every row group within 3 % (``thesis.physics.models.oncilla``, Solver;
 ``tests/physics/test_solver.py``).
 
+Contact relaxation (``model.contact_relaxation``; None by default, the contact rows then
+use ``model.relaxation``). The contact rows of one sweep update in parallel from the same
+velocities in either order, so k contacts pressing on one light body (a toe on a pebble
+field touches the floor and up to ``field_k`` pebbles) each correct the same residual and
+together overshoot about k-fold: at relaxation 1.0 such a foot's contacts diverge. A
+separate factor for the contact rows (normals, friction, torsion) under-relaxes them alone
+and leaves the joints' servo, limit and spring rows at ``model.relaxation``.
+
 Friction cone. The two friction rows of a contact are projected together (:func:`cone`):
 their impulse pair is scaled radially onto the disc of radius ``mu lambda_n`` (the
 exact, nearest-point projection for isotropic Coulomb friction, as in projected
@@ -197,7 +205,8 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
     Args:
         idx: static ``ba, bb, ra, rb``; fric_idx: static friction bookkeeping
             ``(ref, is_fric, cone)`` of ``constraint.scalar_rows``.
-        relax: relaxation factor (scalar or (*B,)). c: dict of :func:`_prepare`.
+        relax: relaxation factor (scalar or (*B,)); the contact rows take
+            ``m.contact_relaxation`` instead where it is set. c: dict of :func:`_prepare`.
         lam_joint0 (n_joint, 6, *B), lam_row0 (n_rows, *B): warm start.
     Returns:
         (v (n_body + 1, 6, *B), lam_joint, lam_row).
@@ -209,6 +218,12 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
     mask = c["mask"]
     relax = jnp.asarray(relax, dtype)
     relax_j, relax_r = relax.reshape((1, 1) + relax.shape), relax.reshape((1,) + relax.shape)
+    if m.contact_relaxation is not None and cone_rows is not None:
+        # the contacts' rows are the last ones: normals, t1, t2 (and torsion) from here on
+        n_rows = c["bias"].shape[0]
+        is_contact = np.arange(n_rows) >= cone_rows[0] - cone_rows[1]
+        relax_r = jnp.where(is_contact.reshape((n_rows,) + (1,) * (relax.ndim)),
+                            jnp.asarray(m.contact_relaxation, dtype), relax_r)
     seg = np.concatenate([ba, bb, ra, rb]).astype(np.int32)
     seg_j, seg_r = seg[:len(ba) + len(bb)], seg[len(ba) + len(bb):]
 

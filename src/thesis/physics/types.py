@@ -136,6 +136,9 @@ class Model(_Replace):
         solver_iterations: block-Jacobi PGS sweeps per step.
         sweep_order: ``"jacobi"`` or ``"blocks_first"``, the order of the updates within
             a sweep (:data:`SWEEP_ORDERS`, :mod:`thesis.physics.solver`).
+        contact_relaxation: None (default: the contact rows use ``relaxation``) or the
+            relaxation factor of the contact rows alone (normals, friction, torsion;
+            :mod:`thesis.physics.solver`, Contact relaxation).
         reortho_iterations: eq. 7.1 steps per time step.
         joint_names, joint_type (n_joint,) JointType, joint_body1/joint_body2 (n_joint,)
             body indices, joint_row_mask (n_joint, 6) bool: which of the 6 equality rows
@@ -229,6 +232,7 @@ class Model(_Replace):
         "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched", "sweep_order",
+        "contact_relaxation",
     )
 
     name: str
@@ -280,6 +284,7 @@ class Model(_Replace):
     camera_pixels: tuple
     batched: bool = False
     sweep_order: str = "jacobi"
+    contact_relaxation: float | None = None
 
     dt: Any
     gravity: Any

@@ -248,7 +248,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             hind_geom: L.LegGeometry | None = None, dtype=jnp.float32,
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
-            contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi"):
+            contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi",
+            contact_relaxation=None):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -257,9 +258,10 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             the floor contacts (critically damped; physical, independent of dt).
         warm_start: fraction of the last step's impulses the solver starts from (the
             engine's 0.85, FACTS §2.4, by default; see the module docstring's Solver).
-        relaxation, sweep_order: the solver's relaxation factor and the order of its
-            updates within a sweep (:mod:`thesis.physics.solver`; module docstring,
-            Solver).
+        relaxation, sweep_order, contact_relaxation: the solver's relaxation factor, the
+            order of its updates within a sweep and the contact rows' own relaxation
+            factor (None: ``relaxation``) (:mod:`thesis.physics.solver`; module
+            docstring, Solver).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -301,7 +303,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
                 contact_hz=contact_hz, restitution=restitution, contact_slop=0.001,
-                warm_start=warm_start, sweep_order=sweep_order)
+                warm_start=warm_start, sweep_order=sweep_order,
+                contact_relaxation=contact_relaxation)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, float(contact_hz), 1.0)
