@@ -30,7 +30,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
              "segment lengths, hip and knee drive stiffness and foot friction are assumed, "
              "each with its reason in thesis.physics.models.oncilla; the time step and the "
-             "solver (ch3.model: 120 sweeps, blocks first) is the one model/convergence "
+             "solver (ch3.model: 120 sweeps, blocks first, the contact rows at relaxation 0.3) is "
+             "the one model/convergence "
              "finds no published gait beyond tolerance on (inconclusive, not converged), and "
              "the knee spring is fitted (ch3.knee_spring_fitted). The hind "
              "legs are the fore legs scaled to a 182 mm reach (the hind feet of Tab. "
@@ -42,7 +43,7 @@ DEPARTURES: tuple[Departure, ...] = (
             "ONCILLA.md); of the values no source gives, only the knee spring is fitted "
             "to a result of the thesis.",
         config=("ch3.model.dt", "ch3.model.solver_iterations", "ch3.model.sweep_order",
-                "ch3.model.relaxation"),
+                "ch3.model.relaxation", "ch3.model.contact_relaxation"),
     ),
     Departure(
         id="ch3.knee_spring_fitted", kind="choice", results=_ALL,

@@ -49,10 +49,11 @@ longer differ; at 30 the feet slip and the speeds are 3-5x lower. ``model/conver
 checks the chosen setting on every published gait (three-valued, 30 starts). The sweep
 order came later: with the Jacobi order at relaxation 0.3 the table found the spline and
 Tab. 4.2's optimum not converged, and the scapulae unheld; blocks first, at relaxation 1,
-it finds no gait beyond tolerance (:mod:`thesis.physics.solver`). On that solver this
-procedure fits 1.807 N m/rad (1.944 on the former one): the grid's speeds are not monotone
-in the spring, three pairs bracket the target, and the refined run of the softest bracket
-is the nearest.
+it finds no gait beyond tolerance (:mod:`thesis.physics.solver`); its contact rows take
+their own relaxation, 0.3. On that solver this procedure fits 5.105 N m/rad (1.944 on the
+Jacobi order, 1.807 with the contact rows at 1.0): the grid's speeds are not monotone in
+the spring, three pairs bracket the target, and a refined run of the stiffest bracket is
+the nearest, although its three starts spread 0.224-0.370 m/s.
 """
 
 from __future__ import annotations

@@ -87,16 +87,20 @@ its reason; nothing is fitted to a result of the thesis):
   physical (as did halving dt, at twice the cost). Those were this function's defaults
   (30 sweeps, ``sweep_order="jacobi"``, relaxation 0.3), which the smoke profile keeps.
   **The chapters' solver** (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first``
-  order at relaxation 1.0 (:mod:`thesis.physics.solver`, Sweep order). In the Jacobi
+  order at relaxation 1.0, the contact rows at 0.3 (:mod:`thesis.physics.solver`, Sweep
+  order, Contact relaxation). In the Jacobi
   order the servo and limit rows of the scapula/hip joint converge slowly: at 120 sweeps
   the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline walked
   0.31 m/s at 1.5 Hz against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
   scapulae within 3 / 1 deg (the half ellipse moved by at most 4 %). Blocks first at
   relaxation 1.0, 120 sweeps give the 960-sweep speeds and hold the scapulae within
-  1 deg at about the Jacobi order's cost per sweep; relaxation 0.5 in the Jacobi order
-  diverges. ``model/convergence`` then finds no published gait beyond tolerance under
-  twice the sweeps or half the step (inconclusive on the gaits that fall in part of
-  their starts). **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps the
+  1 deg; a chapter's job costs 1.3-2.2x the CPU of the Jacobi order at the same sweeps;
+  relaxation 0.5 in the Jacobi order diverges. The contact rows at relaxation 1.0
+  explode on ch4's pebble field, where a toe touches the floor and up to two pebbles at
+  once: of the 200 first-generation evaluations of its five seeds' two swarms, 200
+  exploded at 1.0, 1 at 0.5 and none at 0.3. ``model/convergence`` finds no published
+  gait beyond tolerance under twice the sweeps or half the step (inconclusive on the
+  gaits that fall in part of their starts). **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps the
   Jacobi order (120 sweeps then give about 480's speeds) but was not needed.
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
