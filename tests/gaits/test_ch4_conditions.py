@@ -232,9 +232,12 @@ def test_the_model_section_s_solver_settings_reach_the_solver(chapter):
     assert float(default.warm_start) == pytest.approx(m["warm_start"])
     assert float(default.relaxation) == pytest.approx(m["relaxation"])
     assert default.sweep_order == m["sweep_order"]
+    assert default.contact_relaxation == m["contact_relaxation"]
     other = "jacobi" if m["sweep_order"] == "blocks_first" else "blocks_first"
-    changed = dict(section, model=dict(m, warm_start=0.25, relaxation=0.7, sweep_order=other))
+    changed = dict(section, model=dict(m, warm_start=0.25, relaxation=0.7, sweep_order=other,
+                                       contact_relaxation=0.4))
     model, _ = build(changed)
     assert float(model.warm_start) == pytest.approx(0.25)
     assert float(model.relaxation) == pytest.approx(0.7)
     assert model.sweep_order == other
+    assert model.contact_relaxation == pytest.approx(0.4)
