@@ -294,5 +294,7 @@ def calibration(ctx) -> xr.Dataset:
         gait=GAIT, frequency=float(case["frequency"]), refinements=int(ccfg["refinements"]),
         dt=float(model.dt), solver_iterations=int(model.solver_iterations),
         sweep_order=str(model.sweep_order), relaxation=float(model.relaxation),
+        contact_relaxation=("none" if model.contact_relaxation is None
+                            else float(model.contact_relaxation)),
         model_code_sha256=M.model_code_sha256())
     return ds

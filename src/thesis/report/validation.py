@@ -281,11 +281,14 @@ def calibration_table(results: dict) -> Table:
                                     " (no bracket: the nearest grid point)")])
     conf = float(ds["configured_knee_spring"])
     band = f"{fmt(float(ds['target_low']), 3)}-{fmt(float(ds['target_high']), 3)}"
+    contact = ds.attrs.get("contact_relaxation", "none")
+    contacts = "" if contact == "none" else f", the contact rows at {contact}"
     note = (f"target {fmt(float(ds['target_speed']), 3)} m/s (V1's midpoint), Tab. 3.1a at "
             f"{ds.attrs.get('frequency')} Hz, {int(ds.sizes['start'])} perturbed starts, "
             f"dt {fmt(1e3 * float(ds.attrs.get('dt', np.nan)), 3)} ms, "
             f"{ds.attrs.get('solver_iterations')} sweeps ({ds.attrs.get('sweep_order')}, "
-            f"relaxation {ds.attrs.get('relaxation')}). {ds.sizes.get('bracket', 0)} "
+            f"relaxation {ds.attrs.get('relaxation')}{contacts}). "
+            f"{ds.sizes.get('bracket', 0)} "
             f"bracket(s), each refined by regula falsi in log k unless one of its ends already "
             f"lies within the thesis's speeds; the fit is the run nearest the target: "
             f"{fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "

@@ -100,8 +100,9 @@ its reason; nothing is fitted to a result of the thesis):
   once: of the 200 first-generation evaluations of its five seeds' two swarms, 200
   exploded at 1.0, 1 at 0.5 and none at 0.3. ``model/convergence`` finds no published
   gait beyond tolerance under twice the sweeps or half the step (inconclusive on the
-  gaits that fall in part of their starts). **Warm start** (``warm_start``): the engine's 0.85; 1.0 helps the
-  Jacobi order (120 sweeps then give about 480's speeds) but was not needed.
+  gaits that fall in part of their starts). **Warm start** (``warm_start``): the engine's
+  0.85; 1.0 helps the Jacobi order (120 sweeps then give about 480's speeds) but was not
+  needed.
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
   motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
