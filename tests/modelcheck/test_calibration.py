@@ -54,15 +54,15 @@ def test_refine_finds_the_crossing_of_a_known_response_within_the_band():
 
     def measure(k):
         calls.append(k)
-        return 0.1 + 0.1 * math.log(k)
+        return 0.1 + 0.1 * math.log(k), True
 
-    b = CAL.brackets([10.0, 5.0], [measure(10.0), measure(5.0)], 0.285)[0]
+    b = CAL.brackets([10.0, 5.0], [measure(10.0)[0], measure(5.0)[0]], 0.285)[0]
     calls.clear()
     runs = CAL.refine(measure, b, 0.285, (0.284, 0.286), steps=4)
     assert len(runs) == 1 == len(calls)  # exact in log k: one secant step
     assert runs[0][0] == pytest.approx(math.exp(1.85))
     # a curved response: Illinois keeps the crossing bracketed and approaches it
-    runs = CAL.refine(lambda k: 0.05 * k ** 1.5, (5.0, 2.0, 0.05 * 5 ** 1.5, 0.05 * 2 ** 1.5),
+    runs = CAL.refine(lambda k: (0.05 * k ** 1.5, True), (5.0, 2.0, 0.05 * 5 ** 1.5, 0.05 * 2 ** 1.5),
                       0.285, (0.2849, 0.2851), steps=20)
     want = (0.285 / 0.05) ** (1 / 1.5)
     assert abs(runs[-1][0] - want) < 1e-3 and len(runs) < 20
@@ -70,10 +70,35 @@ def test_refine_finds_the_crossing_of_a_known_response_within_the_band():
 
 
 def test_refine_stops_at_a_fall_and_skips_a_bracket_with_an_end_in_the_band():
-    runs = CAL.refine(lambda k: float("nan"), (10.0, 5.0, 0.45, 0.2), 0.285, (0.27, 0.30), 4)
+    runs = CAL.refine(lambda k: (float("nan"), False), (10.0, 5.0, 0.45, 0.2), 0.285,
+                      (0.27, 0.30), 4)
     assert len(runs) == 1 and math.isnan(runs[0][1])
     assert CAL.refine(lambda k: 1 / 0, (10.0, 5.0, 0.29, 0.2), 0.285, (0.27, 0.30), 4) == []
     assert CAL.refine(lambda k: 1 / 0, (10.0, 5.0, 0.45, 0.2), 0.285, (0.27, 0.30), 0) == []
+
+
+def test_refine_goes_on_past_runs_in_the_band_whose_starts_disagree():
+    # an end in the band whose starts disagree does not end the bracket
+    seen = []
+
+    def measure(k):
+        seen.append(k)
+        return 0.28, len(seen) >= 2  # in the band; the first run's starts disagree
+
+    runs = CAL.refine(measure, (10.0, 5.0, 0.29, 0.2), 0.285, (0.27, 0.30), 4,
+                      ends_agree=(False, True))
+    assert len(runs) == 2 == len(seen)
+
+
+def test_starts_agree_within_the_thesis_s_two_speeds_and_none_fallen():
+    w = CAL.agreement_width()
+    assert w == pytest.approx(0.03)
+    assert CAL.starts_agree([0.30, 0.30, 0.30], [0, 0, 0], w)
+    assert CAL.starts_agree([0.301, 0.317, 0.302], [0, 0, 0], w)
+    # the former fit's starts (5.105 N m/rad): a spread of 0.146 m/s
+    assert not CAL.starts_agree([0.370, 0.224, 0.236], [0, 0, 0], w)
+    assert not CAL.starts_agree([0.30, 0.30, 0.30], [0, 1, 0], w)
+    assert not CAL.starts_agree([0.30, np.nan], [0, 0], w)
 
 
 def test_choose_takes_the_run_nearest_the_target_and_the_earliest_on_a_tie():
@@ -81,6 +106,15 @@ def test_choose_takes_the_run_nearest_the_target_and_the_earliest_on_a_tie():
     assert CAL.choose([0.5, 0.25], 0.375) == 0  # exact tie in binary
     with pytest.raises(ValueError, match="every run fell"):
         CAL.choose([np.nan, np.nan], 0.285)
+
+
+def test_choose_takes_only_runs_whose_starts_agree_unless_none_does():
+    # the former calibration's runs: 5.105 (0.277, starts disagree) was nearest
+    speeds = [0.459, 0.265, 0.357, 0.300, 0.255, 0.014, 0.277]
+    agree = [True, False, True, True, True, True, False]
+    assert CAL.choose(speeds, 0.285) == 6
+    assert CAL.choose(speeds, 0.285, agree) == 3
+    assert CAL.choose(speeds, 0.285, [False] * 7) == 6
 
 
 def test_target_band_is_the_thesis_s_two_speeds():
@@ -104,7 +138,8 @@ def test_calibration_runs_the_grid_refines_each_bracket_and_fits_the_nearest_run
     for name in ("grid_speed", "grid_fallen", "grid_gait_speed", "grid_compression",
                  "refinement_knee_spring", "refinement_bracket", "refinement_speed",
                  "refinement_fallen", "refinement_gait_speed", "bracket_stiff",
-                 "bracket_soft", "target_speed", "target_low", "target_high",
+                 "bracket_soft", "grid_starts_agree", "refinement_starts_agree",
+                 "agreement_width", "fit_starts_agree", "target_speed", "target_low", "target_high",
                  "fitted_knee_spring", "fit_inside_grid", "fit_holds", "residual_speed",
                  "residual", "configured_knee_spring", "configured_matches_fit"):
         assert name in ds and "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
@@ -119,11 +154,13 @@ def test_calibration_runs_the_grid_refines_each_bracket_and_fits_the_nearest_run
     # the fit is the run (grid or refinement) nearest the target, and its own speed
     ks = np.concatenate([ds["knee_spring"].values, ds["refinement_knee_spring"].values])
     vs = np.concatenate([ds["grid_gait_speed"].values, ds["refinement_gait_speed"].values])
-    i = CAL.choose(vs, target)
+    ag = np.concatenate([ds["grid_starts_agree"].values, ds["refinement_starts_agree"].values])
+    i = CAL.choose(vs, target, ag.astype(bool))
+    assert int(ds["fit_starts_agree"]) == int(ag[i])
     assert float(ds["fitted_knee_spring"]) == pytest.approx(ks[i])
     assert float(ds["residual_speed"]) == pytest.approx(vs[i])
     assert float(ds["residual"]) == pytest.approx(abs(vs[i] - target))
-    assert int(ds["fit_holds"]) == int(0.27 <= vs[i] <= 0.30)
+    assert int(ds["fit_holds"]) == int(bool(ag[i]) and 0.27 <= vs[i] <= 0.30)
     assert float(ds["configured_knee_spring"]) == config["ch4"]["model"]["knee_spring"]
     assert int(ds["configured_matches_fit"]) == int(
         abs(config["ch4"]["model"]["knee_spring"] - ks[i]) <= CAL.MATCH_TOLERANCE * ks[i])
@@ -141,6 +178,7 @@ def test_report_lists_the_grid_the_fit_and_whether_the_chapters_run_it(tiny):
     assert roles[:2] == ["grid", "grid"] and roles[-1].startswith("fit")
     assert sum(r.startswith("refinement of") for r in roles) == ds.sizes["refinement"]
     assert "residual" in t.note and "calibration target" in t.note
+    assert "starts agree" in t.note and "spread by at most 0.03 m/s" in t.note
     assert ("it holds" in t.note) == bool(int(ds["fit_holds"]))
     assert ("the fit." in t.note) == bool(int(ds["configured_matches_fit"]))
     assert RV.calibration_table({}).rows == [[RV.NOT_RUN] * 5]

@@ -281,6 +281,15 @@ def calibration_table(results: dict) -> Table:
                                     " (no bracket: the nearest grid point)")])
     conf = float(ds["configured_knee_spring"])
     band = f"{fmt(float(ds['target_low']), 3)}-{fmt(float(ds['target_high']), 3)}"
+    agree = ""
+    if "agreement_width" in ds:
+        n_ok = int(ds["grid_starts_agree"].sum()) + int(ds["refinement_starts_agree"].sum())
+        n_all = ds.sizes["knee_spring"] + ds.sizes.get("refinement", 0)
+        agree = (f" (none fell and their speeds spread by at most "
+                 f"{fmt(float(ds['agreement_width']), 3)} m/s, the thesis's two speeds; "
+                 f"{n_ok} of {n_all} runs" + ("" if int(ds["fit_starts_agree"]) else
+                                            "; none agrees, so the nearest run is shown")
+                 + ")")
     contact = ds.attrs.get("contact_relaxation", "none")
     contacts = "" if contact == "none" else f", the contact rows at {contact}"
     note = (f"target {fmt(float(ds['target_speed']), 3)} m/s (V1's midpoint), Tab. 3.1a at "
@@ -290,7 +299,8 @@ def calibration_table(results: dict) -> Table:
             f"relaxation {ds.attrs.get('relaxation')}{contacts}). "
             f"{ds.sizes.get('bracket', 0)} "
             f"bracket(s), each refined by regula falsi in log k unless one of its ends already "
-            f"lies within the thesis's speeds; the fit is the run nearest the target: "
+            f"lies within the thesis's speeds with its starts agreeing; the fit is the run "
+            f"nearest the target among those whose starts agree{agree}: "
             f"{fmt(fit, 4)} N m/rad, residual {fmt(float(ds['residual']), 3)} m/s; "
             + ("it holds (within" if holds else "it does NOT hold (outside")
             + f" the thesis's {band} m/s). "
