@@ -84,3 +84,13 @@ def test_gait_speed_needs_half_upright():
     assert T.linear_r2([0.5, 1.0, 1.5], [1.0, 2.0, 3.0]) == pytest.approx(1.0)
     assert math.isnan(T.linear_r2([0.5, 1.0], [1.0, 2.0]))
     assert np.isfinite(T.linear_r2([0.5, 1.0, 1.5], [1.0, 2.5, 3.0]))
+
+
+def test_a_gait_that_fell_is_written_as_fallen_not_as_nan():
+    speed, theory = _measurements(v15=0.6 * 2 * 0.07595 * 1.5 / 0.5)
+    speed[("tab3_1b", 1.5)] = float("nan")  # fewer than half its starts stayed up
+    out = T.decide(speed, theory, falls=3, runs=20, scapula_max_deg=0.5)
+    assert not out["V2"]["passed"] and not out["V5"]["passed"]
+    for k in ("V2", "V5"):
+        assert "nan" not in out[k]["text"] and "fell (no speed)" in out[k]["text"]
+    assert "0.590 m/s at 2.6 Hz" in out["V2"]["text"]

@@ -177,6 +177,12 @@ def within(x: float, lo: float, hi: float) -> bool:
     return bool(np.isfinite(x) and lo <= x <= hi)
 
 
+def speed_text(v: float) -> str:
+    """A gait's speed [m/s] as the validation's text writes it; NaN (fewer than half the
+    starts stayed up, :func:`gait_speed`) as 'fell'."""
+    return f"{v:.3f} m/s" if math.isfinite(v) else "fell (no speed)"
+
+
 def _result(passed: bool, measured: dict, bounds: dict, text: str) -> dict:
     return dict(passed=bool(passed), measured=measured, bounds=bounds, text=text)
 
@@ -213,7 +219,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
     v = speed.get(("tab3_1a", V1_FREQUENCY), float("nan"))
     out["V1"] = _result(within(v, lo, hi), {f"speed_{V1_FREQUENCY:g}Hz": v},
                         {"low": lo, "high": hi},
-                        f"Tab. 3.1a at {V1_FREQUENCY:g} Hz: {v:.3f} m/s, accepted "
+                        f"Tab. 3.1a at {V1_FREQUENCY:g} Hz: {speed_text(v)}, accepted "
                         f"{lo:.3f}-{hi:.3f}")
     # V2
     meas, bnd, ok = {}, {}, True
@@ -224,7 +230,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
         bnd[f"low_{f:g}Hz"], bnd[f"high_{f:g}Hz"] = lo, hi
         ok &= within(v, lo, hi)
     out["V2"] = _result(ok, meas, bnd, "Tab. 3.1b: " + ", ".join(
-        f"{meas[f'speed_{f:g}Hz']:.3f} m/s at {f:g} Hz (accepted {bnd[f'low_{f:g}Hz']:.3f}-"
+        f"{speed_text(meas[f'speed_{f:g}Hz'])} at {f:g} Hz (accepted {bnd[f'low_{f:g}Hz']:.3f}-"
         f"{bnd[f'high_{f:g}Hz']:.3f})" for f in pub["v2"]))
     # V3
     out["V3"] = _result(falls <= MAX_FALLS, {"falls": int(falls), "runs": int(runs)},
@@ -266,7 +272,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
     ve15 = speed.get(("tab3_1a", 1.5), float("nan"))
     out["V5"] = _result(bool(np.isfinite(vs) and np.isfinite(ve15) and vs > ve15),
                         {"spline_1.5Hz": vs, "ellipse_1.5Hz": ve15}, {},
-                        f"spline {vs:.3f} m/s vs half ellipse {ve15:.3f} m/s at 1.5 Hz")
+                        f"spline {speed_text(vs)} vs half ellipse {speed_text(ve15)} at 1.5 Hz")
     # V6
     m = float(scapula_max_deg)
     out["V6"] = _result(bool(math.isfinite(m) and m <= SCAPULA_TOLERANCE_DEG),
