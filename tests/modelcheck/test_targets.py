@@ -94,3 +94,5 @@ def test_a_gait_that_fell_is_written_as_fallen_not_as_nan():
     for k in ("V2", "V5"):
         assert "nan" not in out[k]["text"] and "fell (no speed)" in out[k]["text"]
     assert "0.590 m/s at 2.6 Hz" in out["V2"]["text"]
+    del speed[("tab3_1b", 2.6)]  # a frequency not run is not a fall
+    assert "not run at 2.6 Hz" in T.decide(speed, theory, 0, 20, 0.5)["V2"]["text"]

@@ -177,9 +177,13 @@ def within(x: float, lo: float, hi: float) -> bool:
     return bool(np.isfinite(x) and lo <= x <= hi)
 
 
-def speed_text(v: float) -> str:
-    """A gait's speed [m/s] as the validation's text writes it; NaN (fewer than half the
-    starts stayed up, :func:`gait_speed`) as 'fell'."""
+def speed_text(speed: dict, key: tuple) -> str:
+    """The speed [m/s] of ``key`` = (gait name, frequency [Hz]) in ``speed`` as the
+    validation's text writes it: 'not run' where the case is absent, 'fell (no speed)' where
+    it is NaN (fewer than half the starts stayed up, :func:`gait_speed`)."""
+    if key not in speed:
+        return "not run"
+    v = float(speed[key])
     return f"{v:.3f} m/s" if math.isfinite(v) else "fell (no speed)"
 
 
@@ -219,7 +223,8 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
     v = speed.get(("tab3_1a", V1_FREQUENCY), float("nan"))
     out["V1"] = _result(within(v, lo, hi), {f"speed_{V1_FREQUENCY:g}Hz": v},
                         {"low": lo, "high": hi},
-                        f"Tab. 3.1a at {V1_FREQUENCY:g} Hz: {speed_text(v)}, accepted "
+                        f"Tab. 3.1a at {V1_FREQUENCY:g} Hz: "
+                        f"{speed_text(speed, ('tab3_1a', V1_FREQUENCY))}, accepted "
                         f"{lo:.3f}-{hi:.3f}")
     # V2
     meas, bnd, ok = {}, {}, True
@@ -230,7 +235,7 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
         bnd[f"low_{f:g}Hz"], bnd[f"high_{f:g}Hz"] = lo, hi
         ok &= within(v, lo, hi)
     out["V2"] = _result(ok, meas, bnd, "Tab. 3.1b: " + ", ".join(
-        f"{speed_text(meas[f'speed_{f:g}Hz'])} at {f:g} Hz (accepted {bnd[f'low_{f:g}Hz']:.3f}-"
+        f"{speed_text(speed, ('tab3_1b', f))} at {f:g} Hz (accepted {bnd[f'low_{f:g}Hz']:.3f}-"
         f"{bnd[f'high_{f:g}Hz']:.3f})" for f in pub["v2"]))
     # V3
     out["V3"] = _result(falls <= MAX_FALLS, {"falls": int(falls), "runs": int(runs)},
@@ -272,7 +277,8 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
     ve15 = speed.get(("tab3_1a", 1.5), float("nan"))
     out["V5"] = _result(bool(np.isfinite(vs) and np.isfinite(ve15) and vs > ve15),
                         {"spline_1.5Hz": vs, "ellipse_1.5Hz": ve15}, {},
-                        f"spline {speed_text(vs)} vs half ellipse {speed_text(ve15)} at 1.5 Hz")
+                        f"spline {speed_text(speed, ('tab3_1b', 1.5))} vs half ellipse "
+                        f"{speed_text(speed, ('tab3_1a', 1.5))} at 1.5 Hz")
     # V6
     m = float(scapula_max_deg)
     out["V6"] = _result(bool(math.isfinite(m) and m <= SCAPULA_TOLERANCE_DEG),
