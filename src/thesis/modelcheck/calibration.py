@@ -55,8 +55,8 @@ longer differ; at 30 the feet slip and the speeds are 3-5x lower. ``model/conver
 checks the chosen setting on every published gait (three-valued, 30 starts). The sweep
 order came later: with the Jacobi order at relaxation 0.3 the table found the spline and
 Tab. 4.2's optimum not converged, and the scapulae unheld; blocks first, at relaxation 1,
-it finds no gait beyond tolerance (:mod:`thesis.physics.solver`); its contact rows take
-their own relaxation, 0.3.
+it found no gait beyond tolerance at the former fits (:mod:`thesis.physics.solver`); its
+contact rows take their own relaxation, 0.3.
 
 Agreement was added to the procedure after its fit without it (5.105 N m/rad on that
 solver: the nearest run, whose three starts walked 0.224-0.370 m/s) had been adopted and
