@@ -62,7 +62,8 @@ def test_refine_finds_the_crossing_of_a_known_response_within_the_band():
     assert len(runs) == 1 == len(calls)  # exact in log k: one secant step
     assert runs[0][0] == pytest.approx(math.exp(1.85))
     # a curved response: Illinois keeps the crossing bracketed and approaches it
-    runs = CAL.refine(lambda k: (0.05 * k ** 1.5, True), (5.0, 2.0, 0.05 * 5 ** 1.5, 0.05 * 2 ** 1.5),
+    runs = CAL.refine(lambda k: (0.05 * k ** 1.5, True),
+                      (5.0, 2.0, 0.05 * 5 ** 1.5, 0.05 * 2 ** 1.5),
                       0.285, (0.2849, 0.2851), steps=20)
     want = (0.285 / 0.05) ** (1 / 1.5)
     assert abs(runs[-1][0] - want) < 1e-3 and len(runs) < 20

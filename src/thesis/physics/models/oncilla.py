@@ -139,8 +139,8 @@ its reason; nothing is fitted to a result of the thesis):
   assumed generic rubber value: no source gives the toes' material); nothing was changed
   or fitted on that estimate. With the Jacobi order the table found the published gaits
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
-  ``stance_cable_taut`` of the validation) not converged; with the chapters' solver
-  (Solver above) see there.
+  ``stance_cable_taut`` of the validation) not converged; for the chapters' solver see
+  Solver above.
 * **Not revised** (the source gives them, the model does not have them yet): the foot
   plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot). A plate
   50 mm long pointing forward from each toe (a second toe sphere) made the published
