@@ -75,7 +75,9 @@ its reason; nothing is fitted to a result of the thesis):
   The spring rate (10 N m/rad, preload 0.02 rad) is chosen so that standing on four
   legs folds the knees by about 0.05 rad and lowers the hips by about 1 cm (7 % of the
   hip height), more in the two-leg stance of a trot; no public value exists (FACTS §5
-  "Not found: spring stiffness"). The drum carries the knee motor's rotor inertia
+  "Not found: spring stiffness"). Chapters 3, 4 and 6 do not run this default: they run
+  the value :mod:`thesis.modelcheck.calibration` fits to V1 alone
+  (``ch3/ch4/ch6.model.knee_spring``; departure ``ch3.knee_spring_fitted``). The drum carries the knee motor's rotor inertia
   reflected through the cable (an invisible 0.2 m, 30 g box: 2e-4 kg m^2, an
   assumption); without it the 2e-6 kg m^2 drum made the engine's block-Jacobi solver
   (thesis.physics.solver) diverge within one step and the legs fold.
