@@ -79,8 +79,9 @@ its reason; nothing is fitted to a result of the thesis):
   the value :mod:`thesis.modelcheck.calibration` fits to V1 alone
   (``ch3/ch4/ch6.model.knee_spring``; departure ``ch3.knee_spring_fitted``). The drum
   carries the knee motor's rotor inertia reflected through the cable (an invisible
-  0.2 m, 30 g box: 2e-4 kg m^2, an assumption); without it the 2e-6 kg m^2 drum made the engine's block-Jacobi solver
-  (thesis.physics.solver) diverge within one step and the legs fold.
+  0.2 m, 30 g box: 2e-4 kg m^2, an assumption); without it the 2e-6 kg m^2 drum made
+  the engine's block-Jacobi solver (thesis.physics.solver) diverge within one step and
+  the legs fold.
 * **Solver**: 30 block-Jacobi sweeps per 2.5 ms step with relaxation 0.3. The engine
   default relaxation 1.0 diverged on these chains of light bodies hanging from a 4 kg
   trunk. With 15 sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped
