@@ -81,7 +81,9 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
         "step": (train_step, (params, opt_state, x, y, key)),
         "forward": (jax.jit(lambda p, x, y, k: _loss(p, spec, x, y, k)), (params, x, y, key)),
     }
-    theta = nets.localise(params, spec, x)
+    # the cell's inputs are computed by compiled functions too: op by op, the default
+    # widths' gradient alone takes longer than every timed call of the cell together
+    theta = jax.jit(lambda p, x: nets.localise(p, spec, x))(params, x)
     if theta is not None:
         ct_theta = jnp.asarray(rng.standard_normal(theta.shape), theta.dtype)
 
@@ -89,7 +91,7 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
             return jnp.sum(nets.localise({**lp, **rp}, spec, x) * ct)
 
         fns["localisation"] = (jax.jit(jax.grad(loc_obj)), (loc, rest, x, ct_theta))
-        xt = nets.transform_stage(spec, x, theta)
+        xt = jax.jit(lambda x, th: nets.transform_stage(spec, x, th))(x, theta)
         ct_xt = jnp.asarray(rng.standard_normal(xt.shape), xt.dtype)
 
         def tr_obj(th, x, ct):
@@ -108,7 +110,7 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
 
     fns["classifier"] = (jax.jit(jax.grad(cls_obj, argnums=argnums)), (rest, loc, xt, y, key))
 
-    grads = jax.grad(_loss)(params, spec, x, y, key)
+    grads = jax.jit(jax.grad(lambda p, x, y, k: _loss(p, spec, x, y, k)))(params, x, y, key)
 
     @jax.jit
     def update(p, state, g):
