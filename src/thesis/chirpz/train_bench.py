@@ -77,9 +77,12 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
     loc = {k: v for k, v in params.items() if labels[k] == "loc"}
     rest = {k: v for k, v in params.items() if labels[k] == "rest"}
 
+    def loss(p, x, y, k):
+        return _loss(p, spec, x, y, k)
+
     fns = {
         "step": (train_step, (params, opt_state, x, y, key)),
-        "forward": (jax.jit(lambda p, x, y, k: _loss(p, spec, x, y, k)), (params, x, y, key)),
+        "forward": (jax.jit(loss), (params, x, y, key)),
     }
     # the cell's inputs are computed by compiled functions too: op by op, the default
     # widths' gradient alone takes longer than every timed call of the cell together
@@ -110,7 +113,7 @@ def _cell_functions(spec, tcfg: dict, batch: int, rng: np.random.Generator):
 
     fns["classifier"] = (jax.jit(jax.grad(cls_obj, argnums=argnums)), (rest, loc, xt, y, key))
 
-    grads = jax.jit(jax.grad(lambda p, x, y, k: _loss(p, spec, x, y, k)))(params, x, y, key)
+    grads = jax.jit(jax.grad(loss))(params, x, y, key)
 
     @jax.jit
     def update(p, state, g):
