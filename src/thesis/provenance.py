@@ -6,6 +6,7 @@ Computed in one place so every dataset carries the same attributes (DESIGN.md
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import platform
 import socket
@@ -57,11 +58,35 @@ def package_versions() -> dict[str, str]:
     return out
 
 
-def code_version(*subpackages: str) -> str:
-    """SHA-256 (16 hex digits) over the source files of the given subpackages of ``thesis``.
+def source_digest(path: Path) -> bytes:
+    """What of one Python source file decides a rerun: its syntax tree without docstrings.
 
-    With no argument, hashes the whole package. Snakemake passes this through ``params:``
-    so a change of the code a rule runs triggers a rerun (ECOSYSTEM.md §1 "Rerun surprises").
+    Comments, docstrings and layout do not change what a rule computes, so editing them
+    does not rerun the hours of chapter jobs that read the file; any change of code
+    does. A file that does not parse is taken byte for byte.
+    """
+    text = path.read_bytes()
+    try:
+        tree = ast.parse(text)
+    except (SyntaxError, ValueError):
+        return text
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if (isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
+                and body and isinstance(body[0], ast.Expr)
+                and isinstance(body[0].value, ast.Constant)
+                and isinstance(body[0].value.value, str)):
+            node.body = body[1:] or [ast.Pass()]
+    return ast.dump(tree, include_attributes=False).encode()
+
+
+def code_version(*subpackages: str) -> str:
+    """SHA-256 (16 hex digits) over the code of the given subpackages of ``thesis``.
+
+    With no argument, hashes the whole package. Each file enters by its path and its
+    :func:`source_digest` (docstrings and comments left out). Snakemake passes this
+    through ``params:`` so a change of the code a rule runs triggers a rerun
+    (ECOSYSTEM.md §1 "Rerun surprises").
     """
     roots = [PACKAGE_DIR / s for s in subpackages] if subpackages else [PACKAGE_DIR]
     h = hashlib.sha256()
@@ -70,7 +95,7 @@ def code_version(*subpackages: str) -> str:
         for f in files:
             if f.exists():
                 h.update(str(f.relative_to(PACKAGE_DIR)).encode())
-                h.update(f.read_bytes())
+                h.update(source_digest(f))
     return h.hexdigest()[:16]
 
 

@@ -20,7 +20,18 @@ its reason; nothing is fitted to a result of the thesis):
   mirror them (-0.175 m: the hind axes are not visible in the source). The legs hang
   outboard of their L0 axes by ``LEG_OFFSET`` 0.031 m (the source shows an offset but its
   value is unreadable; 0.031 m is the width of a motor unit between axis and leg, a
-  choice), a 0.20 m track. The scapula axis is modelled in the leg's plane, through the
+  choice), a 0.20 m track. **Checked against the official simulation's render**
+  (ONCILLA.md SIM, the 600 x 404 screenshot): a homography fitted to 8 dots of the
+  floor's square tile lattice (residuals <= 1.2 px) puts 6 further dots within 5 px of
+  their lattice points, and the floor's right angle gives the camera a 43 deg field of
+  view (Webots' default 45 deg). Through it the three feet marked on the floor stand
+  0.59-0.62 lattice units apart sideways and 1.15-1.17 fore to hind: a track of 0.53
+  (+-0.03 for +-2 px) of the fore-hind foot spacing, 0.19-0.21 m with the feet 0.35-0.38
+  m apart fore to hind (the hips 0.35 m apart, the feet slightly beyond them in the
+  render). The render so agrees with the 0.20 m track within about 10 % and gives no
+  support to a wider one, although a wider track is the change that removed most falls
+  of random trots (ONCILLA.md). The marks under the feet are about 3 x 3 cm on the floor.
+  The scapula axis is modelled in the leg's plane, through the
   hip point, not 0.031 m inboard of it: with the axis inboard, the engine's 30 Jacobi
   sweeps per step did not hold the scapula servos (the standing robot's scapulae drifted
   8-11 deg within 2 s; 80 sweeps held them to 1 deg), and the lateral foot motion per

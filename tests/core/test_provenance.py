@@ -1,0 +1,51 @@
+"""A rule's code hash moves with the code it runs, not with its docstrings or comments."""
+
+from thesis import provenance
+
+CODE = '''"""Module docstring."""
+
+def f(x):
+    """What f is."""
+    return x + 1  # a comment
+
+
+class C:
+    """A class."""
+
+    def g(self):
+        """Only a docstring."""
+'''
+
+
+def _digest(tmp_path, text):
+    path = tmp_path / "m.py"
+    path.write_text(text)
+    return provenance.source_digest(path)
+
+
+def test_docstrings_comments_and_layout_leave_the_digest(tmp_path):
+    edited = (CODE.replace("What f is.", "What f is, in more words.")
+              .replace("# a comment", "# another comment")
+              .replace('"""Module docstring."""', '"""Module docstring,\n\nlonger."""')
+              .replace("x + 1", "x  +  1"))
+    assert edited != CODE
+    assert _digest(tmp_path, edited) == _digest(tmp_path, CODE)
+
+
+def test_a_change_of_code_moves_the_digest(tmp_path):
+    base = _digest(tmp_path, CODE)
+    assert _digest(tmp_path, CODE.replace("x + 1", "x + 2")) != base
+    assert _digest(tmp_path, CODE.replace('"""Only a docstring."""',
+                                          '"""Only a docstring."""\n        return 1')) != base
+    # A string that is not the first statement is code.
+    assert _digest(tmp_path, CODE.replace("return x + 1", 'y = "s"\n    return x + 1')) != base
+
+
+def test_an_unparsable_file_is_hashed_byte_for_byte(tmp_path):
+    assert _digest(tmp_path, "def (:\n") == b"def (:\n"
+
+
+def test_code_version_of_the_package_is_stable_and_named_by_subpackage():
+    assert provenance.code_version("physics") == provenance.code_version("physics")
+    assert provenance.code_version("physics") != provenance.code_version("gaits")
+    assert len(provenance.code_version()) == 16
