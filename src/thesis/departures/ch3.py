@@ -27,7 +27,9 @@ DEPARTURES: tuple[Departure, ...] = (
                "motor limits or friction.",
         ours="Hip placement (0.35 m apart, scapula axes +-0.069 m), scapula servos, mass and "
              "motor placement are taken from the official AMARSi simulation and the Oncilla "
-             "paper (ONCILLA.md); the leg's outboard offset, trunk shell, motor masses, "
+             "paper (ONCILLA.md); the leg's outboard offset (its 0.20 m track agrees within "
+             "about 10 % with the official simulation's render, measured through the render's "
+             "floor lattice), trunk shell, motor masses, "
              "segment lengths, hip and knee drive stiffness and foot friction are assumed, "
              "each with its reason in thesis.physics.models.oncilla; the time step and the "
              "solver (ch3.model: 120 sweeps, blocks first, the contact rows at relaxation 0.3) "
