@@ -160,7 +160,8 @@ def _cmd_bench(args) -> int:
         known = ", ".join(sorted(registry.BENCHMARKS)) or "none yet"
         raise SystemExit(f"unknown benchmark {args.name!r}; available: {known}")
     run_experiment(registry.BENCHMARKS[args.name], args.profile, output=args.output,
-                   overrides=_overrides(args), config_file=args.config_file)
+                   overrides=_overrides(args), config_file=args.config_file,
+                   perturb=args.perturb)
     return 0
 
 
@@ -178,9 +179,9 @@ def _cmd_validate(args) -> int:
                              f"{', '.join(k.split('/')[1] for k in registry.VALIDATIONS[args.robot])}")
     if args.output and len(keys) != 1:
         raise SystemExit("--output needs --only (one dataset per output path)")
-    for key in keys:
+    for key in keys:  # a twin run perturbs the model checks like every other job
         run_experiment(key, args.profile, output=args.output, overrides=_overrides(args),
-                       config_file=args.config_file)
+                       config_file=args.config_file, perturb=args.perturb)
     return 0
 
 

@@ -122,6 +122,22 @@ def test_perturbed_twin_run_goes_beside_the_profile(fake_registry, tmp_path, mon
     assert "allowed values: 0 (off) to 1e-3" in capsys.readouterr().err
 
 
+def test_perturbed_twin_reaches_the_model_checks(fake_registry, tmp_path, monkeypatch):
+    """``thesis --perturb REL validate``: the model checks run under the perturbation too
+    (the pipeline's perturbed twin of results/<profile>/model/ is a twin, not a rerun of
+    the same bits), into results/<profile>-perturbed/model/."""
+    monkeypatch.setitem(registry.EXPERIMENTS, "model/sees", "fake_experiments:sees_perturbation")
+    monkeypatch.setitem(registry.VALIDATIONS, "fake", ("model/sees",))
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["--perturb", "1e-7", "validate", "fake", "--profile", "smoke"]) == 0
+    twin = store.read_dataset(tmp_path / "results" / "smoke-perturbed" / "model" / "sees.nc")
+    assert twin["seen"].values.tolist() == [1e-7]
+    assert twin.attrs["perturbation_relative"] == 1e-7
+    assert cli.main(["validate", "fake", "--profile", "smoke"]) == 0
+    plain = store.read_dataset(tmp_path / "results" / "smoke" / "model" / "sees.nc")
+    assert plain["seen"].values.tolist() == [0.0]
+
+
 def test_config_slice_holds_what_the_experiment_reads():
     from thesis.config import load_config
 

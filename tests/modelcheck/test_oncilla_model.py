@@ -102,6 +102,26 @@ def pushed():
     return model, state, sim
 
 
+def test_model_check_runs_start_from_the_perturbed_state_of_a_twin_run(pushed):
+    """The model checks' runs are perturbed twins under ``thesis --perturb`` like every
+    rollout (the pipeline's perturbed twin of results/<profile>/model/ measures their
+    sensitivity): the same runs differ under a rounding-level perturbation, and are bit
+    for bit the unperturbed ones again once it is off."""
+    from thesis.physics import perturbation
+
+    model, state, sim = pushed
+    runs = dict(p=M.nominal_gait()[None], stand=np.zeros(1), kick=np.zeros((1, 3)),
+                kick_time=np.array([np.inf]))
+    kw = dict(duration=0.5, settle=0.25, t_transition=0.5, batch=1)
+    plain = M.simulate_runs(model, state, runs, **kw)
+    with perturbation.scope(1e-7):
+        twin = M.simulate_runs(model, state, runs, **kw)
+    again = M.simulate_runs(model, state, runs, **kw)
+    assert not np.array_equal(plain["pos"], twin["pos"])
+    np.testing.assert_allclose(plain["pos"], twin["pos"], atol=1e-3)  # a twin, not a new run
+    assert np.array_equal(plain["pos"], again["pos"])
+
+
 def test_standing_height_is_the_kinematic_nominal(pushed):
     model, state, sim = pushed
     st = M.standing(model, state, sim, 0)

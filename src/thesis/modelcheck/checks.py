@@ -50,7 +50,7 @@ from jax.sharding import Mesh, PartitionSpec as P
 from thesis.gaits import leg as L
 from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
-from thesis.physics import step
+from thesis.physics import perturbation, step
 from thesis.physics import sensors as all_sensors
 from thesis.physics.models import leg_geometry as LG
 
@@ -186,8 +186,11 @@ def _run_one(model, state0, mem, kick, k_kick, fn, n_cmd: int, stride: int):
     """One robot: ``n_cmd`` command periods of ``stride`` physics steps; before period
     ``k_kick`` the trunk's velocity changes by ``kick`` (3,) [m/s]. Records at the end of
     each period the body poses, the joint coordinates, the command held over the period
-    and the toes' contact forces of its last step."""
+    and the toes' contact forces of its last step. Under a process-wide perturbation
+    (``thesis --perturb``) the run starts from
+    :func:`thesis.physics.perturbation.at_start` of ``state0``, as every rollout does."""
     trunk = O.trunk_index(model)
+    state0 = perturbation.at_start(state0)
 
     def period(s, k):
         t = k.astype(s.pos.dtype) * R.COMMAND_PERIOD
@@ -207,7 +210,9 @@ def _run_one(model, state0, mem, kick, k_kick, fn, n_cmd: int, stride: int):
 
 @functools.lru_cache(maxsize=8)
 def _compiled(settle: float, t_transition: float, n_cmd: int, stride: int, n_dev: int,
-              family=FAMILY):
+              family=FAMILY, perturbed: float = 0.0):
+    """jit of a batch of :func:`_run_one` (sharded over ``n_dev`` host devices); cached per
+    protocol and per process-wide perturbation size ``perturbed``, which the trace reads."""
     fn = command_fn(settle, t_transition, family)
 
     def batch(model, state0, mem, kick, k_kick):
@@ -255,7 +260,8 @@ def simulate_runs(model, state0, runs: dict, *, duration: float, settle: float,
     k_kick = np.where(np.isfinite(runs["kick_time"]),
                       np.round(np.nan_to_num(runs["kick_time"], posinf=0.0)
                                / R.COMMAND_PERIOD), -1).astype(np.int32)
-    fn = _compiled(float(settle), float(t_transition), n_cmd, stride, n_dev, family)
+    fn = _compiled(float(settle), float(t_transition), n_cmd, stride, n_dev, family,
+                   perturbation.relative())
     dtype = np.dtype(state0.pos.dtype)
     batched = model.replace(batched=True)
     parts = []
