@@ -45,6 +45,29 @@ a name not measured again (another host's) is carried over when the references a
 rewritten on this host, as long as the variable keeps its shape. Measurements accumulate
 over hosts; deleting a reference forgets them.
 
+A twin run need not be a new smoke run: ``python -m thesis.regression twin smoke
+tests/regression/smoke --twin-run NAME=DIR`` measures another run of the same code (another
+host's ``results/smoke``, a twin made later) against the committed references as they
+are (:func:`add_twin_runs`): values and coordinates stay, tolerances follow from the
+measurement. ``--forget NAME:KEYPREFIX`` drops a recorded measurement that was no twin.
+
+A twin must reach the computation it measures. A loop of physics steps written outside
+:func:`thesis.physics.rollout` starts from :func:`thesis.physics.perturbation.at_start`
+as the rollout does (the model checks' :func:`thesis.modelcheck.checks.simulate_runs`),
+and every command that runs an experiment passes ``--perturb`` on (``thesis validate``
+too); otherwise the perturbed twin is the same run bit for bit, and a variable that only
+another host's last bits move stays compared tightly and fails there. Hosts of other
+CPU models differ in the last bits of the float32 rollouts even with the instruction
+set pinned, and a rounding-level start moves the same variables by as much. Three kinds
+of variable carry such a difference past the default tolerance, and are compared as
+the chaotic statistics they are: a **mean over few starts** (``model/convergence``'s
+``case_speed``: the starts of a case that stayed up, 3 at smoke), a **share past a
+threshold** (``stance_knee_stop``: the stance samples with a knee on its stop, where one
+sample of 141 is 0.7 points), and a **difference of nearly equal numbers** compared
+relatively (``model/puppy_convergence``'s ``followup_speed_change``, its ``_lower_k``,
+``touch_change``: changes of a speed or a touch spread between dt and dt/2 of 1e-2 or
+less, whose relative tolerance of 1e-3 lies below the float32 noise of either term).
+
 ch6's runs carry their own perturbed twins and mark their per-run variables
 ``regression_over="seed"`` with the tolerance those twins measure in the run itself;
 they are compared within the larger of that and the reference's twin-measured tolerance.
@@ -126,7 +149,8 @@ def _squared_differences(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         return (a.astype(str) != b.astype(str)).astype(float)
     a, b = a.astype(float), b.astype(float)
     fa, fb = np.isfinite(a), np.isfinite(b)
-    return np.where(fa & fb, (a - b) ** 2, np.where(fa == fb, 0.0, np.nan))
+    with np.errstate(invalid="ignore"):  # inf - inf where both are infinite: not used
+        return np.where(fa & fb, (a - b) ** 2, np.where(fa == fb, 0.0, np.nan))
 
 
 def _means_over(values, dims: list[str], over: str, labels: list[str]) -> np.ndarray:
@@ -513,6 +537,64 @@ def write_references(results: dict[str, xr.Dataset], root: Path,
     return changes
 
 
+def add_twins(ref: dict, twins: dict[str, xr.Dataset],
+              forget: frozenset[str] | set[str] = frozenset()) -> tuple[dict, list[str]]:
+    """A reference with twin runs measured against its own recorded values; the values,
+    coordinates and policies stay as they are.
+
+    The reference is the run the canonical host made (:func:`reference_as_dataset`), so
+    another run of the same code (another host's results, a twin run made later) is
+    measured against it exactly as :func:`to_reference` measures a twin against a fresh
+    result, and the run need not be repeated. ``twins`` maps a twin's name to its result
+    dataset; a name already recorded is measured again, every other recorded measurement
+    is carried (:func:`measure_sensitivity`) except those named in ``forget`` (a
+    measurement found to be no twin, e.g. a rerun that the perturbation never reached).
+
+    Returns ``(new reference, lines saying which variables' comparison changed)``.
+    """
+    base = reference_as_dataset(ref)
+    new = json.loads(json.dumps(ref))
+    lines = []
+    for name, spec in new["variables"].items():
+        if not spec["compare"]:
+            continue
+        before = spec.get("chaos")
+        carried = {k: v for k, v in (before or {}).get("twins", {}).items() if k not in forget}
+        chaos = measure_sensitivity(base[name], {k: t[name] for k, t in twins.items()
+                                                 if name in t.data_vars}, carried=carried)
+        if chaos is None:
+            spec.pop("chaos", None)
+        else:
+            spec["chaos"] = chaos
+        was = "tight" if before is None else f"chaotic atol {before['atol']:.4g}"
+        now = "tight" if chaos is None else f"chaotic atol {chaos['atol']:.4g}"
+        if was != now:
+            lines.append(f"{name}: {was} -> {now}")
+    return new, lines
+
+
+def add_twin_runs(root: Path, twins: dict[str, dict[str, xr.Dataset]],
+                  forget: dict[str, set[str]] | None = None) -> list[str]:
+    """:func:`add_twins` for every reference under ``root`` that some twin run made
+    (``twins``: name -> {key: dataset}); ``forget`` maps a key prefix (``"model/"``) to the
+    recorded twin names to drop from its references. Rewrites the files; returns what
+    changed, and the references no twin run made."""
+    root = Path(root)
+    out = []
+    for path in sorted(root.glob("*/*.json")):
+        key = f"{path.parent.name}/{path.stem}"
+        runs = {name: r[key] for name, r in twins.items() if key in r}
+        drop = set().union(*[v for p, v in (forget or {}).items() if key.startswith(p)])
+        if not runs and not drop:
+            out.append(f"{key}: no twin run made it; kept")
+            continue
+        ref = json.loads(path.read_text())
+        new, lines = add_twins(ref, runs, frozenset(drop))
+        path.write_text(json.dumps(new, indent=1) + "\n")
+        out += [f"{key}: {line}" for line in lines] or [f"{key}: comparison unchanged"]
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m thesis.regression update [profile] [refdir]``: rewrite the canonical
     references from ``results/<profile>`` with the sensitivity that its twin runs
@@ -523,19 +605,35 @@ def main(argv: list[str] | None = None) -> int:
     from thesis import store
 
     args = list(sys.argv[1:] if argv is None else argv)
-    hosts, runs_extra = {}, {}
+    hosts, runs_extra, forget = {}, {}, {}
+    while "--forget" in args:  # --forget NAME:KEYPREFIX: drop a recorded twin (twin ...)
+        i = args.index("--forget")
+        name, _, prefix = args[i + 1].partition(":")
+        forget.setdefault(prefix, set()).add(name)
+        del args[i:i + 2]
     for flag, into, prefix in (("--host-twin", hosts, "host-"), ("--twin-run", runs_extra, "")):
         while flag in args:  # --host-twin NAME=DIR: another host's references;
             i = args.index(flag)  # --twin-run NAME=DIR: another twin run's results
             name, _, directory = args[i + 1].partition("=")
             into[prefix + name] = Path(directory)
             del args[i:i + 2]
-    if not args or args[0] != "update":
+    if not args or args[0] not in ("update", "twin"):
         print("usage: python -m thesis.regression update [profile] [refdir] "
-              "[--host-twin NAME=REFDIR ...] [--twin-run NAME=RESULTSDIR ...]")
+              "[--host-twin NAME=REFDIR ...] [--twin-run NAME=RESULTSDIR ...]\n"
+              "       python -m thesis.regression twin [profile] [refdir] "
+              "[--twin-run NAME=RESULTSDIR ...] [--forget NAME:KEYPREFIX ...]")
         return 2
     profile = args[1] if len(args) > 1 else "smoke"
     root = Path(args[2]) if len(args) > 2 else Path("tests/regression") / profile
+    if args[0] == "twin":  # measure twin runs against the references as they are
+        runs = {name: store.load_results(d.name, d.parent) for name, d in runs_extra.items()}
+        runs.update({name: host_twin(d, [f"{p.parent.name}/{p.stem}"
+                                          for p in Path(root).glob("*/*.json")])
+                     for name, d in hosts.items()})
+        print(f"twins: {', '.join(runs) or 'none'}; forgotten: {forget or 'none'}")
+        for line in add_twin_runs(root, runs, forget):
+            print(line)
+        return 0
     results = store.load_results(profile)
     if not results:
         print(f"no results under results/{profile}: run the {profile} pipeline first")

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from thesis import regression
+from thesis import regression, store
 from thesis.config import load_config
 from thesis.store import WALL_CLOCK
 
@@ -380,3 +380,39 @@ def test_infinite_values_survive_the_reference():
     assert ref["variables"]["r"]["values"][1] == np.inf
     assert regression.compare(ds([1.0, np.inf, np.nan]), ref) == []
     assert regression.compare(ds([1.0, 5.0, np.nan]), ref) != []
+
+
+def test_a_twin_run_is_measured_against_the_references_as_they_are(tmp_path):
+    """``python -m thesis.regression twin``: another host's results become a twin of the
+    committed references without a new smoke run: the values and coordinates stay, a
+    variable that host moved becomes chaotic with the tolerance it measured, the
+    measurements already recorded are carried, and a recorded measurement named in
+    ``--forget`` (no twin at all) is dropped."""
+    root = tmp_path / "smoke"
+    regression.write_references({"ch2/table2_2": _ds()}, root,
+                                {"perturbed": {"ch2/table2_2": _ds(sim=(3.0, 4.2))},
+                                 "bogus": {"ch2/table2_2": _ds(sim=(3.0, 4.1))}})
+    path = root / "ch2" / "table2_2.json"
+    before = json.loads(path.read_text())
+    assert "chaos" not in before["variables"]["test_error"]
+    host = tmp_path / "host" / "smoke" / "ch2"
+    host.mkdir(parents=True)
+    store.write_dataset(_ds(err=(0.1, 0.2 * 1.01)).assign_attrs(seeds=[0, 1]),
+                        host / "table2_2.nc", profile="smoke", experiment="ch2/table2_2",
+                        config_slice={}, started=store.now(), wall_seconds=1.0)
+    assert regression.main(["twin", "smoke", str(root), "--twin-run",
+                            f"host-x={tmp_path / 'host' / 'smoke'}",
+                            "--forget", "bogus:ch2/"]) == 0
+    after = json.loads(path.read_text())
+    assert after["coords"] == before["coords"]
+    for name, spec in after["variables"].items():
+        assert spec["values"] == before["variables"][name]["values"]
+    err = after["variables"]["test_error"]["chaos"]
+    assert err["twins"] == pytest.approx({"host-x": 0.002 / np.sqrt(2)})
+    assert regression.compare(_ds(err=(0.1, 0.2 * 1.01)), after) == []
+    assert regression.compare(_ds(err=(0.1, 0.3)), after) != []  # still fails a real change
+    sim = after["variables"]["time_to_up_s"]["chaos"]
+    # carried, and measured again by the new twin (no move); the bogus one forgotten
+    assert sim["twins"] == pytest.approx({"perturbed": 0.2 / np.sqrt(2), "host-x": 0.0})
+    assert sim["atol"] == pytest.approx(
+        regression.chaos_tolerance_from_rms(0.2 / np.sqrt(2), 2))
