@@ -123,7 +123,7 @@ def maxpool2(x):
     gradient, of each window goes to the window's first maximum, :func:`first_max_mask`),
     written with elementwise comparisons, a select and a sum instead of XLA's
     ``select_and_scatter``, which on CPU dominated the classifier's backward pass (Tab. 2.1
-    networks, issue 43; ``thesis bench chirpz-train``).
+    networks; ``thesis bench chirpz-train``).
     """
     return maxpool2_reference(x)
 

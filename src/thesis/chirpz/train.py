@@ -18,7 +18,7 @@ An epoch is one pass over the training split, shuffled anew, unless ``epoch_sequ
 is set: then an epoch is the next ``epoch_sequences`` sequences of a stream of shuffled
 passes (a new pass is shuffled when one is used up, and the remainder of a pass carries
 over), so that a run shorter than one pass over a large split (the thesis's 60 000
-sequences, issue 43) still validates, stops early and decays its learning rate per
+sequences) still validates, stops early and decays its learning rate per
 epoch, and every sequence is seen once before any is seen twice.
 
 ``loc_lr_scale`` multiplies the optimiser's updates of the localisation network (its
@@ -30,23 +30,14 @@ images and the localisation gradients vanished for good (network at chance). A s
 localisation network (e.g. 0.1) keeps the grid on the canvas while the classifier
 learns; see ``thesis.chirpz.transforms.inside_fraction``.
 
-Runs at chance (issue 55 item 4). A run of the earlier default recipe that never left 90 %
-(RNN-SPN, no-skew, d = 3, seed 1; 8 filters / 64 units) was rerun update by update: its
-loss stayed at ln 10 from the first update (the classifier never left the uniform
-prediction) while the localisation network still moved the crop, from the identity to a
-translation of -1.6 canvas half-widths and a scale of 1.4 between updates 100 and 200 (the
-sampling grid's fraction on the canvas fell from 0.75 to 0.13-0.18); from then on the
-classifier saw mostly zeros and predicted one class. Adam normalises each parameter's
-update, so the transform parameters move by about (units feeding them) x rate per update
-however small and uninformative their gradient is. The same cell and seed with 16
-filters / 128 units everywhere and the hold-then-decay schedule (a width of the pilot,
-thesis bench chirpz-widths) left ln 10
-within 150 updates (loss 2.15, then 0.87 at update 850; grid 0.80-0.83 on the canvas): a
-classifier that learns before the crop drifts keeps the localisation gradient informative.
-So did the default's widths (localisation 8 filters / 64 units, classifier 32 / 256):
-loss 2.03 at update 150, 0.75 at update 550, grid 0.75-0.83 on the canvas.
-The other two runs at chance of that grid (FFN-SPN d = 1) were not rerun. A run that
-still fails is kept and flagged
+Runs at chance. A run can stay at chance: when the classifier has not left the uniform
+prediction (loss ln 10) by the time the localisation network moves the crop off the canvas,
+it sees mostly zeros and predicts one class. Adam normalises each parameter's update, so the
+transform parameters move by about (units feeding them) x rate per update however small and
+uninformative their gradient is. A classifier wide enough to learn before the crop drifts
+keeps the localisation gradient informative: the profile's widths are chosen for it
+(``thesis bench chirpz-widths``, departure ``ch2.network_widths``). A run that still fails
+is kept and flagged
 (:attr:`TrainResult.failed`; Tab. 2.2's ``failed``, ``inside_fraction`` and
 ``crop_scale`` say which and why), never dropped or rerun with another seed.
 """

@@ -117,7 +117,7 @@ class FailureMixture:
         return self.draw(random_state, size)[0]
 
 
-#: Laws of runs that fail (issue 54): 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
+#: Laws of runs that fail: 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
 FAILURE_LAWS: dict[str, FailureMixture] = {
     f"fail{int(round(100 * r))}": FailureMixture(r) for r in (0.1, 0.2, 0.3)}
 #: Discrete per-seed values (a count of 4 trials: many ties, all seeds equal often):

@@ -1,5 +1,5 @@
 """``thesis validate oncilla --only calibration`` (registry ``model/calibration``): the
-committed calibration procedure of the simulated Oncilla (issue 53 item 4).
+committed calibration procedure of the simulated Oncilla (docs/architecture.md#engine-rules).
 
 Calibration is kept apart from validation. Only a value that no source gives may be
 fitted, and only to V1 (:mod:`thesis.modelcheck.targets`); V2-V6 check the result and

@@ -167,7 +167,7 @@ def sphere_field(ctx):
         },
         coords={"condition": conditions},
         attrs=dict(title="Static sphere field: cost on the simulated Oncilla",
-                   thesis_ref="engine benchmark (issue 22 item 1); §4.6 pebbles",
+                   thesis_ref="engine benchmark; §4.6 pebbles",
                    seeds=[0], layout="R2 quasi-random sequence (no random stream)",
                    pebbles=int(cfg["pebbles"]), k=int(cfg["k"]), batch=batch,
                    simulated_seconds=seconds, repeats=int(cfg["repeats"]),

@@ -18,12 +18,12 @@ Decisions (documented here because the original's JSON format leaves them implic
   a heavy one (a foot under a torso) sags by ``g / (2 pi hz)^2`` times the mass ratio.
   ``hz`` is a physical property of the robot, not of the integrator: it does not change
   with ``dt``, so halving the step or doubling the sweeps refines a simulation of the
-  same robot (issue 53; the engine's validation shows the convergence). Defaults
+  same robot (the engine's validation shows the convergence). Defaults
   (:data:`JOINT_HZ`, :data:`LIMIT_HZ`, :data:`CONTACT_HZ`, ``zeta = 1``, critical
-  damping) are 100 Hz for joints and limits and 25 Hz for contacts: the values that the
-  earlier rule ``1 / dt`` and ``0.25 / dt`` gave at the builder's default dt of 0.01 s,
-  which every model built at that dt keeps (ball, arm, quadruped, cart-pole); a model
-  with another step states its own (:func:`thesis.physics.models.oncilla.oncilla`,
+  damping) are 100 Hz for joints and limits and 25 Hz for contacts: ``1 / dt`` and
+  ``0.25 / dt`` at the builder's default dt of 0.01 s, the step of every model built
+  with the defaults (ball, arm, quadruped, cart-pole; docs/sources.md#engine-compliance);
+  a model with another step states its own (:func:`thesis.physics.models.oncilla.oncilla`,
   :func:`thesis.physics.models.puppy.puppy`). Stiff joints keep the sag below a
   millimetre; contacts stiffer than a quarter of the step rate, with warm starting and a
   non-converged parallel solve, can sustain a small bouncing limit cycle (seen on the
