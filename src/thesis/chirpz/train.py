@@ -274,8 +274,8 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     valid_err, train_loss, lrs = [], [], []
     step = 0
     for epoch in range(1, int(cfg["max_epochs"]) + 1):
-        # a whole pass per epoch (as before epoch_sequences existed), or the next part of
-        # the stream of passes
+        # a whole pass per epoch (no epoch_sequences), or the next part of the stream of
+        # passes
         order = rng.permutation(len(xtr)) if passes is None else passes.take(n_batches * bs)
         losses = []
         for b in range(n_batches):

@@ -60,15 +60,15 @@ DEPARTURES: tuple[Departure, ...] = (
              "the midpoint 0.285 m/s of the thesis's 0.27 and 0.30 m/s), by the procedure of "
              "thesis.modelcheck.calibration, fixed before the other targets V2-V6 were run; "
              "its agreement rule (a run counts only when none of its starts falls and their "
-             "speeds spread no wider than the thesis's two speeds) was added after chapter 4 "
-             "had been run on the procedure's former fit, 5.105 N m/rad, whose three starts "
-             "walked 0.224-0.370 m/s; "
+             "speeds spread no wider than the thesis's two speeds) was decided after chapter 4 "
+             "had been run on a fit without it, 5.105 N m/rad, whose three starts walk "
+             "0.224-0.370 m/s; "
              "the fit, its grid and its residual are the model/calibration result and the "
              "report's model section. A claim whose thesis number is that speed is marked "
              "as resting on a calibration target.",
         why="The spring sets the stance compression that makes the robot walk below the "
-            "feet's theoretical speed; with the sweep ladder's solver and the former, assumed "
-            "10 N m/rad the model walked Tab. 3.1a at its theoretical speed, 1.6x the "
+            "feet's theoretical speed; with the sweep ladder's solver and the model's assumed "
+            "default of 10 N m/rad it walks Tab. 3.1a at its theoretical speed, 1.6x the "
             "robot's.",
         config=("ch3.model.knee_spring",),
     ),

@@ -48,7 +48,7 @@ The time-of-impact correction (``physics.step.toi_correction``, config
 ``ch7.ball.toi_correction``, on by default) restores the landing-time derivative (at the
 point above: AD 0.0676 m per m/s against the secant 0.068;
 ``tests/diffphys/test_ball.py``). Measured with it (default profile, 3 seeds):
-gradient descent now raises the throw on seeds 0 and 2 (v_z 13.5 m/s, backspin
+gradient descent raises the throw on seeds 0 and 2 (v_z 13.5 m/s, backspin
 -16.5 / -13.5 rad/s, the family CMA-ES converges to) but still ends unconverged (loss
 3.59 / 4.28 / 3.69 against 4.34 / 4.19 / 4.15 without), with a gradient norm of about 4 at
 the end: the schedule's 0.01 steps after iteration 100 crawl over a loss that is bumpy

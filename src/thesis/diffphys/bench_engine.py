@@ -89,7 +89,7 @@ def init_controller(key, sizes, *, output_gain: float = 0.1, dtype=jnp.float32) 
 
     Hidden layers orthogonal with ReLU gain sqrt(2); the output layer orthogonal with
     ``output_gain``. ``key`` is a JAX PRNG key. Each matrix is drawn as (n_in, n_out) and
-    stored transposed (the same weights as before the layout change): a single robot's
+    stored transposed: a single robot's
     step is a matrix-vector product, and XLA's CPU GEMV over contiguous rows (``W @ x``)
     beats ``x @ W`` by about a third on the 1024 x 1024 layer (1 000 products of the
     1,147,904-weight network: 0.09-0.11 s against 0.13-0.15 s).

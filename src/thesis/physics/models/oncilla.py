@@ -146,8 +146,8 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   100 Hz on a toe row's effective mass (at most the 60-g foot segment: at most 2.4e4
   N/m) is of the order of our estimate for a Hertz contact of a 10-mm rubber sphere
   under half the robot's weight (about 3e4 N/m with a Young's modulus of a few MPa, an
-  assumed generic rubber value: no source gives the toes' material); nothing was changed
-  or fitted on that estimate. With the Jacobi order the table found the published gaits
+  assumed generic rubber value: no source gives the toes' material); nothing is fitted to
+  that estimate. With the Jacobi order the table found the published gaits
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
   ``stance_cable_taut`` of the validation) not converged; for the chapters' solver see
   Solver above.

@@ -64,9 +64,8 @@ fitted to a result of the thesis.
   at 1.25-1.52 Hz, the random gaits) leaves their intervals wider than 10 %.
 * **Compliance** (physical, independent of dt; :mod:`thesis.physics.builder`): joint and
   limit rows 200 Hz, contacts 50 Hz, critically damped (``JOINT_HZ``, ``CONTACT_HZ``
-  below): the values the engine's former per-step rule (1 / dt, 0.25 / dt) gave at the
-  5-ms step, kept so that chapter 5's recordings do not move; a smaller step now refines
-  the same robot.
+  below): 1 / dt and 0.25 / dt at the 5-ms step (docs/sources.md#puppy-body); being
+  physical, a smaller step refines the same robot.
 
 Sensors the chapter records (§5.3.1) map onto the engine's: hip and knee
 ``joint_angle`` (potentiometers), paw ``contact_force``, trunk ``imu_acc`` and
