@@ -37,6 +37,12 @@ test: env chromium
 test-fast: env
 	$(UV) run --locked $(EXTRAS) pytest $(XDIST) -m "not pipeline and not browser and not cluster"
 
+# Decide the claims of $(PROFILE)'s results (and twin runs, where made) and render its
+# report: after a run of single targets or twin runs, which `make all` does not end with.
+report: env
+	$(UV) run --locked $(EXTRAS) python -m thesis check --profile $(PROFILE)
+	$(UV) run --locked $(EXTRAS) python -m thesis report --profile $(PROFILE)
+
 # Rewrite the smoke references on purpose (thesis.regression; prints what changed): the
 # smoke run and its perturbed and native twin runs, whose differences decide which
 # variables are chaotic and how closely each is compared.

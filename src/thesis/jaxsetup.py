@@ -58,8 +58,8 @@ def configure(jax_config: dict) -> None:
     """Apply the ``jax`` section of a profile configuration.
 
     ``host_devices`` > 1 exposes that many XLA CPU devices so batched rollouts can split
-    their batch over both cores (FACTS §8); ``enable_x64`` switches to float64;
-    ``compilation_cache`` enables JAX's persistent compilation cache there;
+    their batch over both cores (docs/architecture.md#both-cores); ``enable_x64`` switches to
+    float64; ``compilation_cache`` enables JAX's persistent compilation cache there;
     ``ynn_reduce_fusion`` and ``max_isa`` (see :func:`xla_flags`).
     """
     os.environ["XLA_FLAGS"] = xla_flags(jax_config, os.environ.get("XLA_FLAGS", ""))

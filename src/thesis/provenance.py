@@ -1,7 +1,7 @@
 """Where a result came from: git state, code version, package versions, host.
 
-Computed in one place so every dataset carries the same attributes (DESIGN.md
-"Results, provenance"). Nothing here imports JAX at module import time.
+Computed in one place so every dataset carries the same attributes
+(docs/architecture.md#results). Nothing here imports JAX at module import time.
 """
 
 from __future__ import annotations
@@ -82,8 +82,8 @@ def code_version(*subpackages: str) -> str:
 
     With no argument, hashes the whole package. Each file enters by its path and its
     :func:`source_digest` (docstrings and comments left out). Snakemake passes this
-    through ``params:`` so a change of the code a rule runs triggers a rerun
-    (ECOSYSTEM.md §1 "Rerun surprises").
+    through ``params:`` so a change of the code a rule runs triggers a rerun (Snakemake
+    does not track the modules a rule imports: snakemake/snakemake#1694, #3213).
     """
     roots = [PACKAGE_DIR / s for s in subpackages] if subpackages else [PACKAGE_DIR]
     h = hashlib.sha256()

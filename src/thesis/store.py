@@ -86,7 +86,8 @@ def check_result(ds: xr.Dataset) -> None:
 
 
 def _attr_value(v: Any) -> Any:
-    """Make an attribute storable by h5netcdf (ECOSYSTEM.md §2 "Attribute types")."""
+    """Make an attribute storable by h5netcdf, which refuses ``None``, dicts and bools
+    (xarray ``_validate_attrs``; h5netcdf README, "Invalid netCDF files")."""
     if isinstance(v, (bool, np.bool_)):
         return np.int8(v)
     if v is None:
@@ -103,7 +104,7 @@ def _attr_value(v: Any) -> Any:
 def provenance_attrs(*, profile: str, experiment: str, config_slice: Any,
                      seeds: Sequence[int], started: datetime,
                      wall_seconds: float) -> dict[str, Any]:
-    """All provenance attributes of one result (DESIGN.md "Results, provenance")."""
+    """All provenance attributes of one result (docs/architecture.md#results)."""
     versions = provenance.package_versions()
     return {
         "profile": profile,

@@ -129,15 +129,15 @@ def test_h5_roundtrip(tmp_path):
 
 
 def _old_stored_and_seen(x):
-    """What the generator stored and the training saw before issue 43 (write_h5 and
-    read_split as they were): uint8 round(clip(x) * 255), read back as a whole split."""
+    """The reference quantisation, written out independently of the module: uint8
+    round(clip(x) * 255), read back as a whole split as float32 q * (1 / 255)."""
     q = np.round(np.clip(x, 0, 1) * 255).astype(np.uint8)
     return q, q.astype(np.float32) * np.float32(1.0 / 255.0)
 
 
 def test_uint8_round_trip_gives_the_values_training_saw(tmp_path):
     """The file holds uint8; every way of reading it (whole split, slices, index arrays of
-    a mini-batch) gives bit for bit the float32 values the training saw before."""
+    a mini-batch) gives bit for bit the reference's float32 values."""
     digits, labels = _fake_digits()
     x, y = synthesise(digits, labels, 40, np.random.default_rng(5))
     x[0, :3, :3] = [[-0.2, 1.3, 0.5], [1 / 255, 0.5 / 255, 254.5 / 255], [1.0, 0.0, 0.999]]

@@ -13,13 +13,13 @@ import xarray as xr
 
 from thesis import claims, paper
 
-REPO = Path(__file__).resolve().parents[2]
-
 
 def _thesis_text() -> str | None:
-    for c in (os.environ.get("THESIS_TXT", ""), str(REPO.parent / "shared/thesis/thesis.txt")):
-        if c and Path(c).is_file():
-            return paper.normalise_ws(Path(c).read_text(encoding="utf-8"))
+    """The thesis's text (whitespace normalised) from a plain-text copy at ``$THESIS_TXT``
+    (the repository does not ship it), or None."""
+    c = os.environ.get("THESIS_TXT", "")
+    if c and Path(c).is_file():
+        return paper.normalise_ws(Path(c).read_text(encoding="utf-8"))
     return None
 
 

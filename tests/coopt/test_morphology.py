@@ -1,4 +1,4 @@
-"""Morphology as parameters (thesis §8.2, issue 42 item 1).
+"""Morphology as parameters (thesis §8.2).
 
 * The builder construction of the co-optimised body is the chapter-7 quadruped (leaf by
   leaf) plus its knee springs.

@@ -1,4 +1,4 @@
-"""The architecture rules of DESIGN.md as tests (issue 26 item 4), from the imports that
+"""The architecture rules of docs/architecture.md#imports as tests, from the imports that
 ``ast`` finds in every module under src/thesis (top-level and function-local imports,
 ``import thesis.x``, ``from thesis.x import y``, ``from thesis import x`` and relative
 imports alike).
@@ -20,7 +20,7 @@ import thesis
 
 SRC = Path(thesis.__file__).resolve().parent
 
-#: Packages of the chapters' experiment code (DESIGN.md, "Layout"): ch2 chirpz, ch3/4/6
+#: Packages of the chapters' experiment code (docs/architecture.md#layout): ch2 chirpz, ch3/4/6
 #: gaits, ch5 terrain, ch6 embodied, ch7 diffphys. Listed explicitly so that the rule
 #: does not depend on which of them exist yet in a checkout.
 CHAPTER_PACKAGES = ("thesis.chirpz", "thesis.gaits", "thesis.terrain", "thesis.embodied",
@@ -28,8 +28,8 @@ CHAPTER_PACKAGES = ("thesis.chirpz", "thesis.gaits", "thesis.terrain", "thesis.e
 #: What the engine may import of the project besides itself.
 PHYSICS_MAY_IMPORT = ("thesis.physics", "thesis.errors")
 #: The only packages that may import the thesis's published numbers; and the model's
-#: validation targets (DESIGN.md: a robot model's targets are published measurements
-#: from ``thesis.paper``), which decide the model, never a chapter's experiment.
+#: validation targets (docs/architecture.md#engine-rules: a robot model's targets are
+#: published measurements from ``thesis.paper``), which decide the model, never a chapter's experiment.
 PAPER_READERS = ("thesis.claims", "thesis.report", "thesis.paper",
                  "thesis.modelcheck.targets")
 

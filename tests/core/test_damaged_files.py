@@ -1,5 +1,5 @@
 """A damaged result or input file is named in one line, with its role and the command that
-remakes it, and costs nothing else (issue 57): ``thesis check`` and ``thesis report``
+remakes it, and costs nothing else: ``thesis check`` and ``thesis report``
 decide and render every other chapter as with the intact file and exit non-zero;
 ``thesis run`` refuses a damaged ``--input`` before it starts and writes nothing.
 

@@ -3,7 +3,7 @@
 `uv sync` removes every package it is not asked for, so `make all` syncing without the
 extras that `make test` installed would uninstall them (the Tab. 7.1 peers then fail until
 reinstalled). Every `uv sync` / `uv run` the Makefile's targets print must name the same
-extras.
+extras, and every `uv sync` the README shows must name them too.
 """
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ import subprocess
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-TARGETS = ("all", "smoke", "test", "test-fast", "test-cluster", "update-reference", "lint")
+TARGETS = ("all", "smoke", "test", "test-fast", "test-cluster", "update-reference", "lint",
+           "report")
 
 
 def _uv_lines(target: str) -> list[str]:
@@ -36,3 +37,14 @@ def test_every_uv_call_names_the_same_extras():
     sets = set(seen.values())
     assert len(sets) == 1, {k: sorted(v) for k, v in seen.items()}
     assert {"bench", "slurm"} <= next(iter(sets))
+
+
+def test_readme_syncs_keep_the_makefiles_extras():
+    """A `uv sync` the README tells a user to run (e.g. for CUDA JAX) names every extra the
+    Makefile's commands use, so it does not uninstall them."""
+    makefile = _extras(_uv_lines("all")[0])
+    syncs = re.findall(r"uv sync(?:\s+--[\w-]+(?:[= ](?!-)[\w-]+)?)+",
+                       (ROOT / "README.md").read_text())
+    assert syncs, "the README shows no uv sync"
+    for line in syncs:
+        assert makefile <= _extras(line.replace("\n", " ")), (line, sorted(makefile))

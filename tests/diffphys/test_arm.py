@@ -17,7 +17,7 @@ from thesis.diffphys import arm
 from thesis.physics import rollout
 
 TARGET = np.array([0.5, 0.5, 0.5])
-SHOULDER = np.array([0.0, 0.0, 0.1])  # joint0/joint1 anchor (FACTS §2.10)
+SHOULDER = np.array([0.0, 0.0, 0.1])  # joint0/joint1 anchor (docs/sources.md#tpx-arm)
 LINK = 0.5  # shoulder -> elbow and elbow -> end-effector centre [m]
 BOX_KG = 0.14 * 0.14 * 0.5 * 1000.0  # femur, tibia
 SPHERE_KG = 4.0 / 3.0 * np.pi * 0.1**3 * 1000.0  # sphere1 (elbow), sphere2 (end effector)

@@ -50,7 +50,7 @@ def test_ball_loss_gradient_matches_float64_differences_through_landing_and_roll
     """AD gradient of the §7.2.1 loss w.r.t. all six launch parameters equals central
     finite differences in float64 through the landing (restitution, friction impulse
     converting slip into spin) and 1.2 s of rolling: the spin-to-velocity path through
-    the contact is differentiated correctly (FACTS §2.6 rows, §2.11 loss)."""
+    the contact is differentiated correctly (docs/sources.md#tpx-contact rows, §2.11 loss)."""
     model, state0 = _ball64(toi=False)
     err = ball.errors_fn(model, state0, 150, [10.0, 0.0])
     f = jax.jit(lambda x: sum(err(x)))

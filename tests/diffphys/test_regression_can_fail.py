@@ -1,4 +1,4 @@
-"""A deliberately broken engine fails the smoke regression (issue 26 item 3).
+"""A deliberately broken engine fails the smoke regression.
 
 The ch7 ball experiment is run in-process at the smoke profile with the sign of the
 engine's gravity flipped, and must not agree with the committed reference

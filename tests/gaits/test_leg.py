@@ -169,8 +169,8 @@ def test_scapula_range_sidewise_step():
 
 
 def test_hind_leg_reaches_tab_4_2_hind_foot(x64):
-    """The hind leg (ONCILLA.md: hind knee motors 2200 counts vs 1850; Tab. 4.2-4.4's
-    hind feet up to 181.9 mm from the hip) reaches R_MAX_HIND at its extension stop,
+    """The hind leg (docs/sources.md#oncilla-hind-legs: hind knee motors 2200 counts vs
+    1850; Tab. 4.2-4.4's hind feet up to 181.9 mm from the hip) reaches R_MAX_HIND at its extension stop,
     has 2200/1850 of the fore knee range, and at the stance depths of Tab. 4.1 reaches
     wider than the fore leg."""
     H = L.oncilla_hind_geometry()

@@ -1,4 +1,4 @@
-"""The gait families read as the thesis wrote them (issue 53 item 3): one test per family
+"""The gait families read as the thesis wrote them: one test per family
 draws the foot path of a published parameter vector (Tab. 3.1a, Tab. 3.1b; the sine gait
 was tuned by hand and never published) and compares it with the geometry of Fig. 3.3 and
 §3.3.1: the half ellipse's flat stance at depth x0 from A = y0 + a to B = y0 - a and its

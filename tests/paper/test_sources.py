@@ -2,8 +2,9 @@
 
 Two independent checks catch transcription errors: the quoted ``source`` must occur in
 thesis.txt (whitespace normalised), and the number printed at position ``pos`` of that
-source must equal ``value``. The thesis text is looked up at ``$THESIS_TXT`` or the team's
-shared folder (``<repo>/../shared/thesis/thesis.txt``).
+source must equal ``value``. The first check needs the thesis's text, which the repository
+does not ship: a plain-text copy of the public thesis (https://biblio.ugent.be/publication/8562053)
+at ``$THESIS_TXT``.
 """
 
 from __future__ import annotations
@@ -17,8 +18,7 @@ import pytest
 from thesis import paper
 from thesis.paper import PaperValue, normalise_ws, numbers_in
 
-REPO = Path(__file__).resolve().parents[2]
-_CANDIDATES = [os.environ.get("THESIS_TXT", ""), str(REPO.parent / "shared/thesis/thesis.txt")]
+_CANDIDATES = [os.environ.get("THESIS_TXT", "")]
 
 
 def _thesis_text() -> str | None:

@@ -63,8 +63,8 @@ def _soft_model(dt, **kw):
 
 def test_default_softness_is_physical_not_per_step():
     """The builder's default joint, limit and contact softness are constants [Hz] that do
-    not change with dt (issue 53): 100, 100 and 25 Hz, the former 1/dt and 0.25/dt at the
-    default 10-ms step; a model may state its own."""
+    not change with dt: 100, 100 and 25 Hz, i.e. 1/dt and 0.25/dt at the default 10-ms
+    step; a model may state its own."""
     from thesis.physics import builder
 
     for dt in (0.01, 0.0025, 0.001):

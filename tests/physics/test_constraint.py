@@ -55,9 +55,9 @@ def _pendulum_period(dt, joint_hz=None, length=1.0, r=0.05):
 
 
 def test_soft_hinge_period_does_not_depend_on_dt():
-    """Joint softness is physical (builder.JOINT_HZ, independent of dt, issue 53): the
-    default-softness pendulum has one period at 2, 1 and 0.5 ms, where the former
-    1 / dt rule made a different (stiffer) pivot at each step; a stiffer declared hinge
+    """Joint softness is physical (builder.JOINT_HZ, independent of dt): the
+    default-softness pendulum has one period at 2, 1 and 0.5 ms (a softness defined per
+    step would make a different pivot at each step); a stiffer declared hinge
     gives a different period, so the check can tell softness apart."""
     periods = [_pendulum_period(dt) for dt in (0.002, 0.001, 0.0005)]
     np.testing.assert_allclose(periods, periods[0], rtol=1e-3)

@@ -1,4 +1,4 @@
-"""Static sphere fields (issue 22 item 1): K nearest field spheres per contact sphere
+"""Static sphere fields: K nearest field spheres per contact sphere
 from a uniform grid, at a cost that does not depend on the number of field spheres."""
 
 import jax

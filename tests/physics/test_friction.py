@@ -1,5 +1,5 @@
 """Directional (anisotropic) friction: a contact sphere with a body-fixed direction has
-the Coulomb bounds mu_forward / mu_backward along it and mu across it (issue 22 item 2)."""
+the Coulomb bounds mu_forward / mu_backward along it and mu across it."""
 
 import jax
 import jax.numpy as jnp

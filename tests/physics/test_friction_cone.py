@@ -1,4 +1,4 @@
-"""Coulomb friction the same in every tangential direction (issue 39).
+"""Coulomb friction the same in every tangential direction (departure ch7.friction_cone).
 
 A body that slides at any angle to the world axes meets ``mu`` times its normal force,
 opposite to its slip: a box on a level floor decelerates at ``mu g`` along a straight

@@ -93,7 +93,7 @@ def test_angular_momentum_conserved_jointed_bodies(x64):
     assert np.abs(np.asarray(momentum(s2)) - l0).max() < 2e-3 * np.linalg.norm(l0)
 
 
-# --- energy-true rotation (issue 22 item 3) --------------------------------------------
+# --- energy-true rotation ------------------------------------------------------------
 
 # A box with three distinct principal moments: (0.2, 0.5, 1.0) m, so I_y is the
 # intermediate one; spun almost about y, it flips periodically (tennis-racket effect).

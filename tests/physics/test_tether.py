@@ -1,5 +1,5 @@
 """Safety tether: a tension-only spring from a body point to a carriage sliding freely
-along a world rail (issue 22 item 4, thesis §4.5 "a light thread to an overhead rail")."""
+along a world rail (thesis §4.5 "a light thread to an overhead rail")."""
 
 import jax
 import jax.numpy as jnp

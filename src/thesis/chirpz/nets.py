@@ -18,9 +18,9 @@ dense layer initialised at W = 0, b = identity, as [RSTN]) -> spatial transform 
   and the RNN applies its shared classifier to the same image at every step, with the
   step's GRU state (driven by the classifier features) selecting the digit.
 
-Convolutions are 'valid' with ReLU, pools floor the size (Lasagne defaults, FACTS §3.2);
-weights are Glorot-uniform, biases zero. Images are (B, S, S) in [0, 1]; logits are
-(B, n_digits, 10).
+Convolutions are 'valid' with ReLU, pools floor the size (Lasagne defaults,
+docs/sources.md#rstn-training); weights are Glorot-uniform, biases zero. Images are
+(B, S, S) in [0, 1]; logits are (B, n_digits, 10).
 """
 
 from __future__ import annotations
@@ -123,7 +123,7 @@ def maxpool2(x):
     gradient, of each window goes to the window's first maximum, :func:`first_max_mask`),
     written with elementwise comparisons, a select and a sum instead of XLA's
     ``select_and_scatter``, which on CPU dominated the classifier's backward pass (Tab. 2.1
-    networks, issue 43; ``thesis bench chirpz-train``).
+    networks; ``thesis bench chirpz-train``).
     """
     return maxpool2_reference(x)
 

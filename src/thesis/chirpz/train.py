@@ -1,4 +1,5 @@
-"""Training of FFN-SPN / RNN-SPN on cluttered MNIST sequences (thesis §2.5, FACTS §3.2).
+"""Training of FFN-SPN / RNN-SPN on cluttered MNIST sequences (thesis §2.5;
+docs/sources.md#rstn-training).
 
 As [RSTN]: mini-batches of ``batch_size`` (100); RMSprop (ρ = 0.9, ε = 1e-6, Lasagne's
 defaults) with learning rate 5e-4, or Adam; gradients clipped per element to
@@ -8,16 +9,16 @@ follows ``lr_schedule`` (:func:`learning_rates`): "step" ([RSTN]) divides it by
 "hold_decay" holds it for the first ``1 - decay_fraction`` of the run's steps
 (``max_epochs`` epochs) and then decays it along a half cosine to ``final_lr_fraction``
 of its value at the last step, a schedule that fits a run of a few epochs (a step decay
-from epoch 3 of 5 cuts the rate while every curve is still falling); early stopping when the validation error has not improved for
-``patience`` epochs (at most ``max_epochs``); the parameters of the best validation epoch
-are evaluated on the test set. Cost: mean cross-entropy over the digits of a sequence
-(log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
+from epoch 3 of 5 cuts the rate while every curve is still falling); early stopping when the
+validation error has not improved for ``patience`` epochs (at most ``max_epochs``); the parameters
+of the best validation epoch are evaluated on the test set. Cost: mean cross-entropy over the digits
+of a sequence (log-softmax; [RSTN] added 1e-5 inside the log). Error: per-digit error (fraction).
 
 An epoch is one pass over the training split, shuffled anew, unless ``epoch_sequences``
 is set: then an epoch is the next ``epoch_sequences`` sequences of a stream of shuffled
 passes (a new pass is shuffled when one is used up, and the remainder of a pass carries
 over), so that a run shorter than one pass over a large split (the thesis's 60 000
-sequences, issue 43) still validates, stops early and decays its learning rate per
+sequences) still validates, stops early and decays its learning rate per
 epoch, and every sequence is seen once before any is seen twice.
 
 ``loc_lr_scale`` multiplies the optimiser's updates of the localisation network (its
@@ -29,23 +30,14 @@ images and the localisation gradients vanished for good (network at chance). A s
 localisation network (e.g. 0.1) keeps the grid on the canvas while the classifier
 learns; see ``thesis.chirpz.transforms.inside_fraction``.
 
-Runs at chance (issue 55 item 4). A run of the earlier default recipe that never left 90 %
-(RNN-SPN, no-skew, d = 3, seed 1; 8 filters / 64 units) was rerun update by update: its
-loss stayed at ln 10 from the first update (the classifier never left the uniform
-prediction) while the localisation network still moved the crop, from the identity to a
-translation of -1.6 canvas half-widths and a scale of 1.4 between updates 100 and 200 (the
-sampling grid's fraction on the canvas fell from 0.75 to 0.13-0.18); from then on the
-classifier saw mostly zeros and predicted one class. Adam normalises each parameter's
-update, so the transform parameters move by about (units feeding them) x rate per update
-however small and uninformative their gradient is. The same cell and seed with 16
-filters / 128 units everywhere and the hold-then-decay schedule (a width of the pilot,
-thesis bench chirpz-widths) left ln 10
-within 150 updates (loss 2.15, then 0.87 at update 850; grid 0.80-0.83 on the canvas): a
-classifier that learns before the crop drifts keeps the localisation gradient informative.
-So did the default's widths (localisation 8 filters / 64 units, classifier 32 / 256):
-loss 2.03 at update 150, 0.75 at update 550, grid 0.75-0.83 on the canvas.
-The other two runs at chance of that grid (FFN-SPN d = 1) were not rerun. A run that
-still fails is kept and flagged
+Runs at chance. A run can stay at chance: when the classifier has not left the uniform
+prediction (loss ln 10) by the time the localisation network moves the crop off the canvas,
+it sees mostly zeros and predicts one class. Adam normalises each parameter's update, so the
+transform parameters move by about (units feeding them) x rate per update however small and
+uninformative their gradient is. A classifier wide enough to learn before the crop drifts
+keeps the localisation gradient informative: the profile's widths are chosen for it
+(``thesis bench chirpz-widths``, departure ``ch2.network_widths``). A run that still fails
+is kept and flagged
 (:attr:`TrainResult.failed`; Tab. 2.2's ``failed``, ``inside_fraction`` and
 ``crop_scale`` say which and why), never dropped or rerun with another seed.
 """
@@ -122,8 +114,8 @@ def localisation_labels(params: dict) -> dict:
 
 
 def make_optimizer(cfg: dict):
-    """optax chain (§2.5, FACTS §3.2): per-element clip, global-norm clip, RMSprop/Adam with
-    an injectable learning rate, then the localisation updates scaled by
+    """optax chain (§2.5, docs/sources.md#rstn-training): per-element clip, global-norm
+    clip, RMSprop/Adam with an injectable learning rate, then the localisation updates scaled by
     ``cfg["loc_lr_scale"]`` (default 1.0: one rate for all layers, as the thesis), then a
     linear warm-up of every update over ``cfg["warmup_steps"]`` steps (default 0: none).
 
@@ -248,7 +240,8 @@ def per_digit_error(errors_fn, params, x, y, batch: int) -> float:
     """Fraction of wrongly classified digits over a whole split (full batches + remainder)."""
     wrong = 0
     for i in range(0, len(x), batch):
-        wrong += int(errors_fn(params, jnp.asarray(x[i : i + batch]), jnp.asarray(y[i : i + batch])))
+        wrong += int(errors_fn(params, jnp.asarray(x[i : i + batch]), jnp.asarray(y[i : i +
+        batch])))
     return wrong / y.size
 
 
@@ -281,8 +274,8 @@ def train(spec: NetSpec, data: dict, cfg: dict, key, rng: np.random.Generator, l
     valid_err, train_loss, lrs = [], [], []
     step = 0
     for epoch in range(1, int(cfg["max_epochs"]) + 1):
-        # a whole pass per epoch (as before epoch_sequences existed), or the next part of
-        # the stream of passes
+        # a whole pass per epoch (no epoch_sequences), or the next part of the stream of
+        # passes
         order = rng.permutation(len(xtr)) if passes is None else passes.take(n_batches * bs)
         losses = []
         for b in range(n_batches):

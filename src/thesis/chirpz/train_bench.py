@@ -1,6 +1,6 @@
 """``thesis bench chirpz-train``: what one training step of the Tab. 2.2 networks costs.
 
-Issue 43 item 1. For every model x transform x d of ``ch2.train_bench`` this times one
+For every model x transform x d of ``ch2.train_bench`` this times one
 training step (forward, backward and optimiser update, the jitted step of
 :func:`thesis.chirpz.train.train`) and its parts, each a separately jitted function:
 

@@ -3,7 +3,8 @@
 Every transform maps ``(images (B, N, N), params (B, P), out_size M) -> (B, M, M)`` and
 declares its number of parameters P and the parameter vector of the identity transform
 (the localisation network's last dense layer starts at W = 0, b = identity, as in the
-recurrent spatial transformer code, FACTS §3.2). A network takes the transform by name.
+recurrent spatial transformer code, docs/sources.md#rstn-training). A network takes the transform by
+name.
 
 Coordinates are normalised as in Jaderberg et al.'s spatial transformer (the thesis's
 [4], [5]): the output grid is ``u, v = linspace(-1, 1, M)`` and a source coordinate
@@ -22,8 +23,8 @@ Coordinates are normalised as in Jaderberg et al.'s spatial transformer (the the
 
 Bilinear samples outside the image read zero: each of the four neighbours is fetched with
 an explicit validity mask and ``mode="fill"`` (JAX gathers otherwise clamp silently,
-ECOSYSTEM §3), so there is no border replication. The chirp-Z layer is periodic by
-construction (its interpolant is the periodic band-limited one).
+JAX's Common Gotchas, "Out-of-bounds indexing"), so there is no border replication. The
+chirp-Z layer is periodic by construction (its interpolant is the periodic band-limited one).
 """
 
 from __future__ import annotations

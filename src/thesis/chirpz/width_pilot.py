@@ -1,6 +1,6 @@
 """``thesis bench chirpz-widths``: per-digit error against CPU time for a few network widths.
 
-Issue 55 items 1 and 5. One cell of Tab. 2.2 (``ch2.width_pilot.model`` / ``transform`` /
+One cell of Tab. 2.2 (``ch2.width_pilot.model`` / ``transform`` /
 ``d``, by default FFN-SPN bilinear d = 2) and one seed is trained at every width of
 ``ch2.width_pilot.widths`` (the localisation and classifier widths of Tab. 2.1's
 networks) for every run length of ``ch2.width_pilot.steps`` (one run per length, each

@@ -25,8 +25,8 @@ claim's "not reproduced" (:func:`thesis.claims.stats.combine`). ``thesis check``
 
 Every simulation draws from a generator seeded by its arguments, so the tables are
 deterministic. ``rules`` defaults to :mod:`thesis.claims.stats` and may be any module with
-the same decision helpers (the calibration test and the issue's before/after tables run it
-on an earlier version too).
+the same decision helpers (the calibration test runs it on another version of the rules
+too).
 """
 
 from __future__ import annotations
@@ -117,7 +117,7 @@ class FailureMixture:
         return self.draw(random_state, size)[0]
 
 
-#: Laws of runs that fail (issue 54): 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
+#: Laws of runs that fail: 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
 FAILURE_LAWS: dict[str, FailureMixture] = {
     f"fail{int(round(100 * r))}": FailureMixture(r) for r in (0.1, 0.2, 0.3)}
 #: Discrete per-seed values (a count of 4 trials: many ties, all seeds equal often):
@@ -156,8 +156,8 @@ def _draw_failed(law: str, rng: np.random.Generator, shape) -> tuple[np.ndarray,
 
 def _failure_kw(rules, fn: str, law: str, failed, bounds) -> dict:
     """``failed=`` and ``failure_bounds=`` for ``rules.<fn>`` under a failure law (the
-    chapter knows its failure indicator), when ``rules`` takes them (an earlier version of
-    the rules does not: its before-table runs without)."""
+    chapter knows its failure indicator), when ``rules`` takes them (a version of the rules
+    without them runs without)."""
     if law not in FAILURE_LAWS or "failed" not in inspect.signature(
             getattr(rules, fn)).parameters:
         return {}

@@ -13,7 +13,7 @@ accuracies in percent of time steps, §5.3.2):
 - ``fig5_3``: ``recall`` (seed, test in ``frequency``/``gait``, true terrain),
   ``train_trials`` (seed, true terrain).
 
-Decision margins, fixed in code before any default result was looked at (CH456 §3.4):
+Decision margins, fixed in code before any default result was looked at:
 
 - :data:`EQUIVALENCE_MARGIN` = 5 accuracy points: "virtually the same" / "do not make a
   significant difference" hold when the interval of the per-seed difference lies inside

@@ -1,11 +1,11 @@
 """Claims of §8.2 (perspectives) made testable: co-optimisation and analytic gradients.
 
-The thesis proposes these experiments and never ran them; the claims are the issue's
-(issue 42) hypotheses, with decision rules fixed before any result was looked at:
+The thesis proposes these experiments and never ran them; the claims are this project's
+hypotheses, with decision rules fixed before any result was looked at:
 
 * co-optimisation (``coopt/arms``): the sentence says joint optimisation *can* be done,
   a feasibility (existential) sentence, decided as existence
-  (:func:`joint_optimisation_possible`); issue 42's stronger hypotheses, that the joint
+  (:func:`joint_optimisation_possible`); the stronger hypotheses, that the joint
   arm beats the single arms, are separate claims marked as going beyond the sentence,
   paired by seed (every seed starts the three arms from
   one network), rule 4 (:func:`thesis.claims.stats.decide_beats`) on the final speed of
@@ -199,7 +199,7 @@ CLAIMS: tuple[Claim, ...] = (
     Claim(
         id="ch8.coopt_joint_beats_controller_only", chapter=8, section="§8.2",
         quote=_COOPT,
-        summary="Beyond the sentence (issue 42's hypothesis; the sentence itself is "
+        summary="Beyond the sentence (this project's hypothesis; the sentence itself is "
                 "ch8.coopt_joint_optimisation_possible): within the same budget of gradient "
                 "evaluations, controller and body optimised together end faster than the "
                 "controller alone on the built body "
@@ -210,7 +210,7 @@ CLAIMS: tuple[Claim, ...] = (
     Claim(
         id="ch8.coopt_joint_beats_morphology_only", chapter=8, section="§8.2",
         quote=_COOPT,
-        summary="Beyond the sentence (issue 42's hypothesis): within the same budget, "
+        summary="Beyond the sentence (this project's hypothesis): within the same budget, "
                 "controller and body together end faster than the "
                 "body alone under the fixed initial controller (rule 4, paired by seed).",
         requires=(ARMS,), reads=(f"{ARMS}:final_speed",),
@@ -219,7 +219,7 @@ CLAIMS: tuple[Claim, ...] = (
     Claim(
         id="ch8.coopt_joint_advantage_holds_from_perturbed_starts", chapter=8, section="§8.2",
         quote=_COOPT,
-        summary="Beyond the sentence (issue 42's hypothesis): the jointly optimised gaits "
+        summary="Beyond the sentence (this project's hypothesis): the jointly optimised gaits "
                 "are faster than the controller-only ones also "
                 "from perturbed starts (mean over starts per seed, rule 4).",
         requires=(ARMS,), reads=(f"{ARMS}:perturbed_speed",),

@@ -1,4 +1,4 @@
-"""Claims decided on an unvalidated model (issue 53 item 5).
+"""Claims decided on an unvalidated model (docs/architecture.md#engine-rules).
 
 Chapters 3, 4 and 6 are decided on the simulated Oncilla. Where the profile's results hold
 the model's validation (``model/validation``, ``thesis validate oncilla``,
@@ -22,7 +22,7 @@ Chapter 5's claims rest on the simulated Puppy II's recordings (``requires`` und
 flag with that table as the failed target ("Puppy II convergence"), and an inconclusive
 one is named as the Oncilla's is.
 
-Claims on a calibration target (issue 53 item 4). The knee spring is fitted to V1, Tab.
+Claims on a calibration target. The knee spring is fitted to V1, Tab.
 3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
 that speed (``paper_keys`` among :data:`thesis.modelcheck.targets.V1_PAPER_KEYS`) and that
 rests on the Oncilla is marked where the profile's results hold the calibration: the model

@@ -15,12 +15,12 @@ They compose the rules of :mod:`thesis.claims.stats` (nothing here changes a rul
   the seed count it needs when no count of the run's seeds could decide it.
 - :func:`min_seeds_for_majority`: that seed count.
 
-Sentence forms (issue 54: one logic per form). Existential sentences ("was found",
+Sentence forms (one logic per form). Existential sentences ("was found",
 "can", "is possible", "we were able to") are decided as existence (rule 10's
 :func:`~thesis.claims.stats.decide_exists`: some seed shows it, the rate beside it);
 sentences about what usually happens as means or rates over seeds; a stated size as an
-equivalence on the size; a causal sentence needs an intervention. The claims touched by
-issue 54 in chapters 2-5, 7 and §8 and the form each is read as; the claims whose runs can
+equivalence on the size; a causal sentence needs an intervention. The claims of
+chapters 2-5, 7 and §8 that a form decides, and the form each is read as; the claims whose runs can
 fail also name the chapter's failure indicator they pass to rule 3b
 (:func:`~thesis.claims.stats.mixture_interval`):
 

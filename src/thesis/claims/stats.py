@@ -182,7 +182,7 @@ _RESAMPLES: contextvars.ContextVar[int] = contextvars.ContextVar("n_resamples",
 @contextlib.contextmanager
 def resamples(n: int) -> Iterator[None]:
     """Use ``n`` resamples in :func:`bootstrap_mean` inside the block (config
-    ``report.bootstrap_resamples``; the decision rules no longer resample)."""
+    ``report.bootstrap_resamples``; the decision rules do not resample)."""
     if n < 100:
         raise ValueError(f"at least 100 bootstrap resamples, got {n}")
     token = _RESAMPLES.set(int(n))

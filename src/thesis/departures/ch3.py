@@ -27,23 +27,24 @@ DEPARTURES: tuple[Departure, ...] = (
                "motor limits or friction.",
         ours="Hip placement (0.35 m apart, scapula axes +-0.069 m), scapula servos, mass and "
              "motor placement are taken from the official AMARSi simulation and the Oncilla "
-             "paper (ONCILLA.md); the leg's outboard offset (its 0.20 m track agrees within "
+             "paper (docs/sources.md#oncilla-hips, #oncilla-mass); the leg's outboard offset (its "
+             "0.20 m track agrees within "
              "about 10 % with the official simulation's render, measured through the render's "
              "floor lattice), trunk shell, motor masses, "
              "segment lengths, hip and knee drive stiffness and foot friction are assumed, "
              "each with its reason in thesis.physics.models.oncilla; the time step and the "
              "solver (ch3.model: 120 sweeps, blocks first, the contact rows at relaxation 0.3) "
-             "are the ones model/convergence found no published gait beyond tolerance on at "
-             "the former knee springs; at the current fit it finds Tab. 3.1b at 1.5 Hz not "
-             "converged at half the step (model/convergence, shown beside every verdict), and "
+             "are those of chapter 3's convergence table; at the fitted knee spring it finds "
+             "Tab. 3.1b at 1.5 Hz not converged at half the step (model/convergence, shown beside "
+             "every verdict), and "
              "the knee spring is fitted (ch3.knee_spring_fitted). The hind "
              "legs are the fore legs scaled to a 182 mm reach (the hind feet of Tab. "
              "4.2-4.4's optima reach 181.9 mm from the hip) with 2200/1850 of their knee "
              "range (the robot backend's knee motor counts): the scaling and reading counts "
              "as angle are choices (leg_geometry.oncilla_hind_geometry). Not modelled: the "
              "foot plates (point toes).",
-        why="The thesis and public sources give only part of the robot (FACTS §5, "
-            "ONCILLA.md); of the values no source gives, only the knee spring is fitted "
+        why="The thesis and public sources give only part of the robot (docs/sources.md#oncilla); "
+            "of the values no source gives, only the knee spring is fitted "
             "to a result of the thesis.",
         config=("ch3.model.dt", "ch3.model.solver_iterations", "ch3.model.sweep_order",
                 "ch3.model.relaxation", "ch3.model.contact_relaxation"),
@@ -51,22 +52,23 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch3.knee_spring_fitted", kind="choice", results=_ALL,
         thesis="§3.2.1: the knees are cable-driven against springs; no spring rate is given "
-               "(nor by any public source: FACTS §5). §3.3.1.2 explains the speed below the "
+               "(nor by any public source: docs/sources.md#oncilla-knee-spring). §3.3.1.2 "
+               "explains the speed below the "
                "feet's theoretical one by the legs' compression under the robot's weight.",
         ours="The knee's extension spring (ch3.model.knee_spring) is FITTED to one published "
              "number, the validation's target V1 (Tab. 3.1a's half ellipse at 1.5 Hz walks "
              "the midpoint 0.285 m/s of the thesis's 0.27 and 0.30 m/s), by the procedure of "
              "thesis.modelcheck.calibration, fixed before the other targets V2-V6 were run; "
              "its agreement rule (a run counts only when none of its starts falls and their "
-             "speeds spread no wider than the thesis's two speeds) was added after chapter 4 "
-             "had been run on the procedure's former fit, 5.105 N m/rad, whose three starts "
-             "walked 0.224-0.370 m/s; "
+             "speeds spread no wider than the thesis's two speeds) was decided after chapter 4 "
+             "had been run on a fit without it, 5.105 N m/rad, whose three starts walk "
+             "0.224-0.370 m/s; "
              "the fit, its grid and its residual are the model/calibration result and the "
              "report's model section. A claim whose thesis number is that speed is marked "
              "as resting on a calibration target.",
         why="The spring sets the stance compression that makes the robot walk below the "
-            "feet's theoretical speed; with the sweep ladder's solver and the former, assumed "
-            "10 N m/rad the model walked Tab. 3.1a at its theoretical speed, 1.6x the "
+            "feet's theoretical speed; with the sweep ladder's solver and the model's assumed "
+            "default of 10 N m/rad it walks Tab. 3.1a at its theoretical speed, 1.6x the "
             "robot's.",
         config=("ch3.model.knee_spring",),
     ),

@@ -43,7 +43,8 @@ DEPARTURES: tuple[Departure, ...] = (
     ),
     Departure(
         id="ch4.knee_spring_fitted", kind="choice", results=ALL,
-        thesis="No spring rate of the Oncilla's knees is given (§3.2.1; FACTS §5).",
+        thesis="No spring rate of the Oncilla's knees is given (§3.2.1; nor does any public "
+               "source, docs/sources.md#oncilla-knee-spring).",
         ours="ch4.model.knee_spring is FITTED to the validation's target V1 (Tab. 3.1a at "
              "1.5 Hz, 0.285 m/s) by thesis.modelcheck.calibration, as in chapter 3 "
              "(ch3.knee_spring_fitted); the fit and residual are model/calibration.",
@@ -239,9 +240,11 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch4.best_particles_per_seed", kind="choice", results=("ch4/fig4_6",),
         config=("ch4.fig4_6.top",),
-        thesis="Fig. 4.6: the best particles (their number: paper key fig4_6/top) of all optimisations per inclination, a "
+        thesis="Fig. 4.6: the best particles (their number: paper key fig4_6/top) of all "
+               "optimisations per inclination, a "
                "Gaussian fitted; panel (b)'s axes are not described.",
-        ours="Per seed: as many best particles as the thesis shows, of the flat run for flat ground and of both arms of a "
+        ours="Per seed: as many best particles as the thesis shows, of the flat run for flat "
+             "ground and of both arms of a "
              "slope for that slope; panel (b) shows x0 against y0r.",
         why="One Fig. 4.6 per seed, as one thesis experiment per seed.",
         paper_keys=("fig4_6/top",),

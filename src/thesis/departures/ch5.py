@@ -1,8 +1,9 @@
 """Departures of chapter 5 from the thesis (see :class:`thesis.departures.types.Departure`).
 
 The recordings are simulated, so every physical value of the robot and the terrains is a
-choice (FACTS §6: no public source gives Puppy II's dimensions, the terrains' materials
-or the dataset); the classification protocol follows §5.2-5.3 where it is stated.
+choice (docs/sources.md#puppy: no public source gives Puppy II's dimensions, the
+terrains' materials or the dataset); the classification protocol follows §5.2-5.3 where it
+is stated.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ DEPARTURES: tuple[Departure, ...] = (
         ours="The trials of Tab. 5.1 (same gait, terrain and frequency counts, 3000-6500 "
              "samples at 50 Hz) are simulated on the project's engine with an invented "
              "Puppy II model.",
-        why="The dataset is not public (FACTS §6).",
+        why="The dataset is not public (docs/sources.md#puppy).",
         config=("ch5.recordings",),
     ),
     Departure(
@@ -35,7 +36,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "with the knee pointing backward; 3 N m/rad knee spring with 0.1 rad preload; "
              "hobby-servo hips (1 N m, 6 rad/s, gain 50 1/s); 12 mm paws "
              "(thesis.physics.models.puppy docstring gives the reasons).",
-        why="No public source (FACTS §6); chosen for a small servo robot, and so that the "
+        why="No public source (docs/sources.md#puppy-body); chosen for a small servo robot, and "
+            "so that the "
             "model stands and walks (a forward knee or a softer spring turned it over).",
         config=("ch5.model",),
     ),
@@ -176,8 +178,9 @@ DEPARTURES: tuple[Departure, ...] = (
              "in the tanh; 4 slow features and ICA components; 20 bins between the 1st and "
              "99th percentile with add-one smoothing; SFA2 gets the EMA low-pass of LR; no "
              "washout, every time step scored.",
-        why="CH456 §3.7's recommended readings; the SFA2 low-pass also gives CMA-ES the two "
-            "parameters it needs.",
+        why="The plainest reading of each unstated detail (no preference among the input "
+            "weights' values, the readout's bias instead of one per node, every step "
+            "scored); the SFA2 low-pass also gives CMA-ES the two parameters it needs.",
         config=("ch5.methods",),
     ),
     Departure(

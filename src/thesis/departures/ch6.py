@@ -48,7 +48,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "They run through that screen as a check (stays up, walks again after "
              "power-on). Their speed is what the simulated robot reaches, not the "
              "thesis's speed.",
-        why="The thesis's own gaits fall over within seconds on this model (CH456 §1.3), so "
+        why="The thesis's own gaits fall over within seconds on this model (validation "
+            "target V3, thesis validate oncilla), so "
             "the teacher must be a gait that this robot can run for the whole protocol. It "
             "is fixed rather than screened on every run because chapter 3's particle swarm "
             "is chaotic at the rounding level: under another instruction set it finds other "
@@ -96,7 +97,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "compliant (a PD on the motor angle), so the load on a leg deflects what the "
              "encoders read; the tibia angle behind the cable and spring is not sensed.",
         why="'Rotary encoders in the motors' measure the motor side; the Oncilla's magnetic "
-            "encoders count 4096 per revolution (FACTS §5); the read-noise level has no "
+            "encoders count 4096 per revolution (docs/sources.md#oncilla-encoders); the "
+            "read-noise level has no "
             "source and is a choice.",
         config=("ch6.control.encoder_counts", "ch6.control.encoder_noise"),
         paper_keys=("sec6.2/encoders",),
@@ -109,7 +111,8 @@ DEPARTURES: tuple[Departure, ...] = (
                "training.",
         ours="Before the 5-s normalisation the teacher's command eases from the standing pose "
              "into the gait's first pose (settle); the statistics are those of the 5 s; the "
-             "noise has the stated amplitude as standard deviation on each normalised input during both "
+             "noise has the stated amplitude as standard deviation on each normalised input "
+             "during both "
              "training stages and none afterwards.",
         why="The easing keeps the first command from jumping (as in chapter 3); 'amplitude' "
             "is read as the standard deviation.",

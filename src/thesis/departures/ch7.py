@@ -23,7 +23,8 @@ DEPARTURES: tuple[Departure, ...] = (
                "and builds its own on similar algorithms, without stating its solver's "
                "update order, sweeps or softness.",
         ours="A projected block-Jacobi solver (all constraint rows updated in parallel, like "
-             "the original engine's code, FACTS §2.4) with a fixed number of sweeps per "
+             "the original engine's code, docs/sources.md#tpx-step) with a fixed number of sweeps "
+             "per "
              "experiment (its solver_iterations), soft constraints (ERP/CFM) and "
              "semi-implicit Euler integration (thesis.physics.solver).",
         why="Parallel row updates vectorise over rows and robots, which Gauss-Seidel's "
@@ -32,7 +33,8 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch7.friction_cone", kind="choice", results=_ALL,
         thesis="§7.2 gives contacts a friction coefficient mu without stating the friction "
-               "law; the original engine's code (FACTS §2.6) clips two tangential rows along "
+               "law; the original engine's code (docs/sources.md#tpx-contact) clips two "
+               "tangential rows along "
                "the world's x and y separately, each to mu times the normal impulse (a "
                "friction pyramid).",
         ours="An isotropic Coulomb cone: the two tangential impulses of a contact are "
@@ -55,7 +57,8 @@ DEPARTURES: tuple[Departure, ...] = (
              "a real torque bound.",
         why="The original engine clipped the accumulated impulse but re-applied it on every "
             "solver sweep, so its effective bound was up to the number of sweeps times the "
-            "stated torque (FACTS §2.4); a bound that means what it says is the only one "
+            "stated torque (docs/sources.md#tpx-step); a bound that means what it says is the "
+            "only one "
             "whose value can be compared.",
     ),
     # ------------------------------------------------------------------ ball (§7.2.1)
@@ -211,7 +214,8 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="§7.3.3.1 minimises the distance of the pendulum's end to the target and "
                "regularises the pendulum's speed (no weight given).",
         ours="The speed term has weight ch7.pendulum.speed_weight (0: the loss is the tip "
-             "distance alone, as in the original optimize_pendulum.py, FACTS §2.11).",
+             "distance alone, as in the original optimize_pendulum.py, "
+             "docs/sources.md#tpx-experiments).",
         why="With a positive weight the hanging state is a local minimum of the loss: a swing "
             "costs more speed than it gains distance, and training stays hanging.",
         config=("ch7.pendulum.speed_weight",),
@@ -231,7 +235,8 @@ DEPARTURES: tuple[Departure, ...] = (
     Departure(
         id="ch7.pendulum_network", kind="deviation", results=_PEND,
         thesis="§7.3.3.1 trains a deep controller with the parameter count of the paper key "
-               "(the original optimize_pendulum.py's convolutional network, FACTS §2.11).",
+               "(the original optimize_pendulum.py's convolutional network, "
+               "docs/sources.md#tpx-experiments).",
         ours="The profile's network: ch7.pendulum.conv_channels convolutions (none: an MLP on "
              "the pixels) and ch7.pendulum.hidden dense layers.",
         why="The convolutional network at the thesis's resolution is GPU-scale; the default "

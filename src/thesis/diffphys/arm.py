@@ -9,8 +9,8 @@ global L2 norm is clipped to ``clip_norm``.
 
 The *error* of an episode (what the 4 cm / 1 cm and 10 cm / 5 cm thresholds are compared
 with) is the end-effector distance averaged over the final ``eval_window_s`` of the
-episode, like the original code's test loss (FACTS §2.11); the time-averaged objective
-itself cannot fall to a few cm because the arm needs time to travel to the target.
+episode, like the original code's test loss (docs/sources.md#tpx-experiments); the time-averaged
+objective itself cannot fall to a few cm because the arm needs time to travel to the target.
 
 Fixed target (:func:`arm_fixed`): input = the current end-effector distance to the target
 (§7.3.2.1), batch of 1, Adam; contrasted with separable CMA-ES on the same network.
@@ -97,9 +97,9 @@ def episode_fn(model, state0, n_steps: int, window: int, *, inputs: str, grad_de
 
 
 def sample_targets(rng: np.random.Generator, n: int) -> np.ndarray:
-    """``(n, 3)`` reachable targets [m], the original code's sampler (FACTS §2.11):
-    x, y uniform in [-1, 1], z in [0, 1], kept when x^2 + y^2 + z^2 lies in
-    [sqrt(2)/2, 1], then z += 0.1 (the shoulder height)."""
+    """``(n, 3)`` reachable targets [m], the original code's sampler
+    (docs/sources.md#tpx-experiments): x, y uniform in [-1, 1], z in [0, 1], kept when
+    x^2 + y^2 + z^2 lies in [sqrt(2)/2, 1], then z += 0.1 (the shoulder height)."""
     out = []
     while len(out) < n:
         p = rng.uniform([-1, -1, 0], [1, 1, 1], size=(4 * n, 3))

@@ -5,13 +5,13 @@ origin; the six parameters are its initial linear velocity v0 [m/s] and angular 
 w0 [rad/s]. After ``horizon_s`` (5 s) it must rest at ``target_xy`` = (10, 0) on the
 ground: the position error is ``|p_T - (10, 0, r)|`` [m] (r the radius: resting on the
 ground) and the velocity error ``|(v_T, w_T)|`` (the norm of the 6-vector, as in the
-original code's loss, FACTS §2.11). Both methods minimise the original's loss
+original code's loss, docs/sources.md#tpx-experiments). Both methods minimise the original's loss
 ``position error + velocity error`` from the same seeded starting point and stop when
 both errors are below their tolerances (0.01 m and 0.01 m/s) or the budget is spent.
 
 * gradient descent: Adam on the BPTT gradient of the 5 s rollout (one model evaluation
   with its gradient per iteration), with the original's moment rates and piecewise
-  constant learning-rate schedule (FACTS §2.11, config ``ch7.ball.gradient``);
+  constant learning-rate schedule (docs/sources.md#tpx-experiments, config ``ch7.ball.gradient``);
 * CMA-ES (``thesis.optim.cmaes``: seeded, silent, no files), one batched forward
   evaluation per generation; its ``iterations`` are model evaluations (candidates), counted
   up to the first candidate that meets both tolerances.
@@ -37,18 +37,18 @@ right: AD equals central differences to 5 digits in all six components
   0.067, the AD derivative 0), is lost by time stepping without a time-of-impact
   correction (the DiffTaichi observation, Hu et al. 2020);
 * so from a downward throw the gradient cannot raise the throw (the high-throw solutions
-  CMA-ES finds, like the original's ``velocity2`` = (3.74, 0, 12, 0, 4.686, 0), FACTS
-  §2.10: with the quirk inertia and w_y = -4.686 in our sign convention it ends with
-  velocity error 0.008, position error 0.58 m here), and at a fixed landing time a
-  resting solution needs ``v_x ~ 10 / t_land`` and a backspin of ``-m r v_x / I``, tens
-  of units away while the schedule's steps are 0.01 after iteration 100. The quirk
-  inertia (FACTS §2.3) stalls the same way (seed 0: velocity error 3.97 after 200 iterations).
+  CMA-ES finds, like the original's ``velocity2`` = (3.74, 0, 12, 0, 4.686, 0),
+  docs/sources.md#tpx-ball: with the quirk inertia and w_y = -4.686 in our sign convention it ends
+  with velocity error 0.008, position error 0.58 m here), and at a fixed landing time a resting
+  solution needs ``v_x ~ 10 / t_land`` and a backspin of ``-m r v_x / I``, tens of units away while
+  the schedule's steps are 0.01 after iteration 100. The quirk inertia (docs/sources.md#tpx-bodies)
+  stalls the same way (seed 0: velocity error 3.97 after 200 iterations).
 
 The time-of-impact correction (``physics.step.toi_correction``, config
 ``ch7.ball.toi_correction``, on by default) restores the landing-time derivative (at the
 point above: AD 0.0676 m per m/s against the secant 0.068;
 ``tests/diffphys/test_ball.py``). Measured with it (default profile, 3 seeds):
-gradient descent now raises the throw on seeds 0 and 2 (v_z 13.5 m/s, backspin
+gradient descent raises the throw on seeds 0 and 2 (v_z 13.5 m/s, backspin
 -16.5 / -13.5 rad/s, the family CMA-ES converges to) but still ends unconverged (loss
 3.59 / 4.28 / 3.69 against 4.34 / 4.19 / 4.15 without), with a gradient norm of about 4 at
 the end: the schedule's 0.01 steps after iteration 100 crawl over a loss that is bumpy

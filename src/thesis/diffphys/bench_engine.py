@@ -24,7 +24,7 @@ The IMU's three non-gyro channels (``imu``): ``"attitude"`` (default) reads the 
 axis in the body frame (``sensors()["imu_up"]``, what an IMU's attitude filter reports);
 ``"accelerometer"`` reads the specific force, which the engine differentiates from the
 velocity change of the last step. Why attitude: the original engine has no accelerometer
-(its sensors are positions, velocities and orientations, FACTS §2.8), and the
+(its sensors are positions, velocities and orientations, docs/sources.md#tpx-sensors), and the
 finite-difference reading makes the exact gradient of Tab. 7.1 meaningless: its
 derivative w.r.t. velocity is ~1/dt, and through the controller and the servos it closes
 a loop whose tangent grows ~x1.3 per step, so the 10-s gradient overflows float32
@@ -42,7 +42,8 @@ minus at the start); ``gradient`` = that plus d(sum of distances)/d(all paramete
 (``jax.value_and_grad`` through ``lax.scan``; per-step gradient decay ``grad_decay``,
 no clipping: the raw Jacobian of the thesis). Compilation (``jit(...).lower().compile()``)
 is timed separately. A batch divisible by the number of XLA devices of the platform is
-split over them with ``jax.shard_map`` (FACTS §8: one core per host device).
+split over them with ``jax.shard_map`` (one core per host device,
+docs/architecture.md#both-cores).
 Peak memory is XLA's buffer assignment of the compiled program
 (``compiled.memory_analysis()``: arguments + outputs + temporaries - aliased bytes),
 per device times the devices used; it excludes the Python process and XLA's code.
@@ -88,7 +89,7 @@ def init_controller(key, sizes, *, output_gain: float = 0.1, dtype=jnp.float32) 
 
     Hidden layers orthogonal with ReLU gain sqrt(2); the output layer orthogonal with
     ``output_gain``. ``key`` is a JAX PRNG key. Each matrix is drawn as (n_in, n_out) and
-    stored transposed (the same weights as before the layout change): a single robot's
+    stored transposed: a single robot's
     step is a matrix-vector product, and XLA's CPU GEMV over contiguous rows (``W @ x``)
     beats ``x @ W`` by about a third on the 1024 x 1024 layer (1 000 products of the
     1,147,904-weight network: 0.09-0.11 s against 0.13-0.15 s).

@@ -216,7 +216,7 @@ def table7_1_peers(ctx):
                    join="outer")
     ds["engine"].attrs.update(units="1", long_name="peer engine")
     ds.attrs.update(
-        thesis_ref="Tab. 7.1 (peers, FACTS §8)", seeds=[0], model=model.name, dt=dt,
+        thesis_ref="Tab. 7.1 (peers on the same machine)", seeds=[0], model=model.name, dt=dt,
         n_steps=n_steps, simulated_seconds=n_steps * dt, repeats=int(cfg["repeats"]),
         mujoco_version=mujoco.__version__, mjx_solver_iterations=int(cfg["mjx_solver_iterations"]),
         mjx_forward_solver_iterations=int(cfg["mjx_forward_solver_iterations"]),

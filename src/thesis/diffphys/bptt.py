@@ -2,9 +2,9 @@
 
 The four tricks of §7.3.2: (1) an objective averaged over every time step (done by each
 experiment's loss), (2) the gradient decayed by a factor alpha < 1 per time step (the
-engine's :func:`thesis.physics.decay_gradient`, the original's ``MulGrad``, FACTS §2.1),
-(3) a zero-output initial policy (:mod:`thesis.diffphys.nets`), (4) the gradient's L2 norm
-clipped to 1 (:func:`make_optimizer`, ``optax.clip_by_global_norm``).
+engine's :func:`thesis.physics.decay_gradient`, the original's ``MulGrad``,
+docs/sources.md#tpx-engine), (3) a zero-output initial policy (:mod:`thesis.diffphys.nets`), (4) the
+gradient's L2 norm clipped to 1 (:func:`make_optimizer`, ``optax.clip_by_global_norm``).
 
 Also: :func:`check_finite` (a non-finite loss or gradient raises
 :class:`thesis.errors.SimulationDiverged`), :func:`first_reach` (iterations until a

@@ -8,10 +8,10 @@ output layer initialised at zero so the robot starts standing still. The model i
 
 Objective: maximise the spine's forward (x) velocity averaged over every step of the
 episode (10 s), batch of one robot, Adam with the gradient decayed per step and clipped
-(FACTS §2.11). ``speed`` at evaluation k is the mean forward velocity of the policy
-evaluated there (before the k-th update); ``final_speed`` re-evaluates the parameters
-after the last update. A strip of frames of the learned gait (first seed) is rendered
-with the engine's camera from a tracking camera added to a copy of the model.
+(docs/sources.md#tpx-experiments). ``speed`` at evaluation k is the mean forward velocity of the
+policy evaluated there (before the k-th update); ``final_speed`` re-evaluates the parameters after
+the last update. A strip of frames of the learned gait (first seed) is rendered with the engine's
+camera from a tracking camera added to a copy of the model.
 
 Why the default keeps the thesis's 4 N m (default settings, seed 0; the thesis's speed
 after 500 evaluations is ``thesis.paper`` key ``quadruped_gait/evaluations=500/speed``):
@@ -55,7 +55,7 @@ SPINE = "spine"
 
 def build(cfg: dict):
     """(model, state0) of the quadruped with the profile's time step, solver iterations and
-    servo torque bound [N m] (its servos have no dead band, FACTS §2.10)."""
+    servo torque bound [N m] (its servos have no dead band, docs/sources.md#tpx-quadruped)."""
     return quadruped(dt=cfg["dt"], solver_iterations=cfg["solver_iterations"],
                      servo_max_torque=cfg["servo_torque"])
 

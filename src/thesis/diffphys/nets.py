@@ -15,10 +15,10 @@ controllers are initialized such that they only output zeros at the start"):
   (§7.3.3.1): 3x3 convolutions (ReLU, "SAME"), 2x2 max pooling after every
   ``pool_every`` convolutions, then dense ReLU layers and a linear output.
 
-Hidden weights are orthogonal (the original code's initialiser, FACTS §2.11) with the
-ReLU gain sqrt(2); biases start at zero; output layers start at exactly zero.
-A parameter pytree is a list of ``{"w": (n_in, n_out), "b": (n_out,)}`` layers (plus
-named sub-trees for the skip and conv networks).
+Hidden weights are orthogonal (the original code's initialiser, docs/sources.md#tpx-experiments)
+with the ReLU gain sqrt(2); biases start at zero; output layers start at exactly zero. A parameter
+pytree is a list of ``{"w": (n_in, n_out), "b": (n_out,)}`` layers (plus named sub-trees for the
+skip and conv networks).
 """
 
 from __future__ import annotations
@@ -152,7 +152,7 @@ def convnet_init(key, image_hw, in_channels, conv_channels, pool_every, hidden, 
 
 def convnet_apply(params, images, pool_every):
     """``images`` (H, W, C) -> (n_out,). Pixel values are centred (minus 0.5) first, as in
-    the original code (FACTS §2.11)."""
+    the original code (docs/sources.md#tpx-experiments)."""
     x = images[None] - 0.5
     for i, layer in enumerate(params["conv"]):
         x = jax.lax.conv_general_dilated(x, layer["w"], (1, 1), "SAME",

@@ -1,4 +1,4 @@
-"""MJCF of an engine model, for the MuJoCo / MJX peer rows of Tab. 7.1 (FACTS §8).
+"""MJCF of an engine model, for the MuJoCo / MJX peer rows of Tab. 7.1 (``ch7_table7_1_peers``).
 
 :func:`model_to_mjcf` writes the MJCF *from the built engine Model and State* (masses,
 inertias, poses, joint anchors and axes, limits, servo parameters, contact spheres,
@@ -225,8 +225,8 @@ def servo_ctrl(q, command, gain, max_velocity, lo, hi, deadband, kind):
     """Target joint rate of the engine's servos for the MJCF velocity actuators [rad/s].
 
     ``-clip(gain (q - clip(command, lo, hi)) [|error| > deadband], +-max_velocity)`` for
-    position servos, the clipped command for velocity servos (thesis §7.2, FACTS §2.7). Works on
-    numpy or jax arrays of shape (..., n_servo).
+    position servos, the clipped command for velocity servos (thesis §7.2,
+    docs/sources.md#tpx-servo). Works on numpy or jax arrays of shape (..., n_servo).
     """
     xp = np if isinstance(q, np.ndarray) else __import__("jax.numpy", fromlist=["x"])
     cmd = xp.clip(command, lo, hi)

@@ -115,7 +115,7 @@ def gait_ok(m: dict, crit: dict) -> tuple[bool, bool]:
 def amplitude_by_period(output, teacher, period_steps: int) -> np.ndarray:
     """(K,) :func:`amplitude_ratio` over each of the K whole teacher periods of
     ``period_steps`` controller steps in ``output``, ``teacher`` (T, J): the learned
-    gait's amplitude as it evolves (issue 40 item 5)."""
+    gait's amplitude as it evolves."""
     n = max(1, int(period_steps))
     k = output.shape[0] // n
     return np.array([amplitude_ratio(output[i * n:(i + 1) * n], teacher[i * n:(i + 1) * n])

@@ -21,8 +21,9 @@ One scan step is one controller period Δt (§6.2 "on average Δt ≈ 8.2 ms"):
 Every run of a batch has its own protocol timeline, teacher table, hidden weights and
 masks (see :func:`pack_runs`), so one compiled function serves a whole sweep: the shapes
 depend only on the batch size, H_max, the number of buffer slots and the number of steps.
-The batch is split over the XLA host devices with ``shard_map`` (FACTS §8: one core per
-device) and vmapped on each, with the engine's batched solver (``Model.batched``).
+The batch is split over the XLA host devices with ``shard_map`` (XLA runs a CPU rollout on
+one core per device: docs/architecture.md#both-cores) and vmapped on each, with the
+engine's batched solver (``Model.batched``).
 """
 
 from __future__ import annotations
@@ -78,7 +79,8 @@ def read_encoders(q, key, noise_std, resolution):
     """(8,) encoder readings [rad] of the true motor angles ``q`` (8,) [rad]: plus Gaussian
     read noise of ``noise_std`` [rad] from ``key``, rounded to multiples of
     ``resolution`` [rad] (one encoder count; 0: no quantisation). The Oncilla's magnetic
-    encoders count 4096 per revolution (FACTS §5, liboncilla-hw ``L1L2.cpp``)."""
+    encoders count 4096 per revolution (liboncilla-hw ``L1L2.cpp``,
+    docs/sources.md#oncilla-encoders)."""
     q = q + noise_std * jax.random.normal(key, q.shape, q.dtype)
     safe = jnp.where(resolution > 0, resolution, 1.0)
     return jnp.where(resolution > 0, jnp.round(q / safe) * safe, q)

@@ -4,8 +4,8 @@
 [24, 25]. We have the robot trot at a frequency of 1.7 Hz" (§6.4): the teacher is an
 open-loop gait of the chapter 3/4 foot-locus families (:mod:`thesis.gaits.trajectories`)
 at ``teacher.frequency``, given to the chapter, not found by it. The thesis's own gait
-parameters do not carry over to this model (CH456 §1.3: its best flat gait falls within
-seconds here), so ``teacher.source`` takes one of two:
+parameters do not carry over to this model (its published gaits fall, validation target
+V3 of ``thesis validate oncilla``), so ``teacher.source`` takes one of two:
 
 * ``fixed``: the trot and the walk of ``teacher.fixed`` (family and loci parameters; the
   frequency is ``teacher.frequency``, the walk's duty factor ``walk.duty``). Like the

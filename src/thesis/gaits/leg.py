@@ -16,7 +16,8 @@ Frames and conventions (engine convention, SI units):
 
 Pantograph: the femur (hip→knee, ``femur``), the tibia (knee→heel, ``tibia``) and the
 foot segment (heel→toe, ``foot``) with a parallel link that keeps the foot segment
-parallel to the femur (Cheetah-cub lineage, FACTS §5). The knee points forward (cat-like,
+parallel to the femur (Cheetah-cub lineage, Spröwitz et al. 2013, docs/sources.md#oncilla-legs).
+The knee points forward (cat-like,
 "loosely inspired by the legs of a cat", §3.2.1), so the tibia leans back::
 
     foot = (femur + foot) u(hip) + tibia u(hip + knee - π),   u(φ) = (sin φ, -cos φ)
@@ -155,10 +156,10 @@ def inverse(geom: LegGeometry, foot_xz, *, n_iter: int = 12, grid: int = 16,
     A coarse ``grid``×``grid`` search over the joint box gives the start; then
     ``n_iter`` Levenberg-Marquardt (damped Gauss-Newton) steps, each followed by
     an active-set projection onto the joint limits (a joint whose step would leave its
-    range is put on the limit and the other joint's step is re-solved). Inside the reachable area this
-    converges to the exact solution; outside, to joint commands at the limits whose foot
-    position is (close to) the nearest reachable point. Fixed iteration count: jit- and
-    vmap-able, and differentiable with respect to the target and the geometry.
+    range is put on the limit and the other joint's step is re-solved). Inside the reachable area
+    this converges to the exact solution; outside, to joint commands at the limits whose foot
+    position is (close to) the nearest reachable point. Fixed iteration count: jit- and vmap-able,
+    and differentiable with respect to the target and the geometry.
 
     Args:
         geom: leg geometry.

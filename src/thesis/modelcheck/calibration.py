@@ -1,5 +1,5 @@
 """``thesis validate oncilla --only calibration`` (registry ``model/calibration``): the
-committed calibration procedure of the simulated Oncilla (issue 53 item 4).
+committed calibration procedure of the simulated Oncilla (docs/architecture.md#engine-rules).
 
 Calibration is kept apart from validation. Only a value that no source gives may be
 fitted, and only to V1 (:mod:`thesis.modelcheck.targets`); V2-V6 check the result and
@@ -8,9 +8,9 @@ nothing is changed after seeing them. The procedure, fixed before any calibratio
 * **Physics**: the model's chapter setting (``ch4.model``: dt, solver sweeps, sweep order
   and relaxation as configured). The spring is varied on exactly that model.
 * **Fitted value**: the knee's extension spring ``knee_spring`` [N m/rad] (preload
-  unchanged). No source gives it (FACTS §5, the model's docstring); it sets the stance
-  compression that §3.3.1.2 names as the reason the robot walks below the feet's
-  theoretical speed.
+  unchanged). No source gives it (docs/sources.md#oncilla-knee-spring, the model's
+  docstring); it sets the stance compression that §3.3.1.2 names as the reason the robot
+  walks below the feet's theoretical speed.
 * **Target**: V1 alone: Tab. 3.1a's half ellipse at :data:`~thesis.modelcheck.targets.V1_FREQUENCY`
   (1.5 Hz), the gait's speed over ``starts`` perturbed starts (the validation's start
   kicks, stream ``model/validation/starts``; :func:`thesis.modelcheck.targets.gait_speed`),
@@ -18,7 +18,7 @@ nothing is changed after seeing them. The procedure, fixed before any calibratio
   :func:`target_speed`). The fit **holds** when the speed at the fit lies within those
   two published speeds (:func:`target_band`): the thesis's own spread, not a tolerance
   chosen here.
-* **Grid**: ``physics.oncilla_calibration.grid`` (default 10, the model's former value,
+* **Grid**: ``physics.oncilla_calibration.grid`` (default 10, the model's own default,
   5, 3, 2, 1.5, 1).
 * **Brackets** (:func:`brackets`): every pair of neighbouring grid points (in the order of
   k) whose speeds lie on both sides of the target. Speed need not be monotone in the
@@ -47,24 +47,24 @@ The fitted value is what ``ch3.model.knee_spring`` and ``ch4.model.knee_spring``
 thesis number is V1's speed is marked as resting on a calibration target
 (:mod:`thesis.claims.model_validity`).
 
-Why 120 sweeps (the sweep ladder, the validation's protocol, 3 starts, at the former knee
-spring of 10 N m/rad): Tab. 3.1a walked 0.026-0.045 / 0.24-0.30 m/s at 0.5 / 1.5 Hz with
+Why 120 sweeps (the sweep ladder, the validation's protocol, 3 starts, at the model's
+default knee spring of 10 N m/rad): Tab. 3.1a walked 0.026-0.045 / 0.24-0.30 m/s at 0.5 / 1.5 Hz with
 30 sweeps, 0.142 / 0.449 with 120, 0.147 / 0.454 with 240, and 0.149 / 0.457 with 120
 sweeps at dt / 2: from 120 sweeps on the speeds move by at most 5 % and the starts no
 longer differ; at 30 the feet slip and the speeds are 3-5x lower. ``model/convergence``
 checks the chosen setting on every published gait (three-valued, 30 starts). The sweep
-order came later: with the Jacobi order at relaxation 0.3 the table found the spline and
-Tab. 4.2's optimum not converged, and the scapulae unheld; blocks first, at relaxation 1,
-it found no gait beyond tolerance at the former fits (:mod:`thesis.physics.solver`); its
-contact rows take their own relaxation, 0.3.
+order: with the Jacobi order at relaxation 0.3 the table finds the spline and Tab. 4.2's
+optimum not converged, and the scapulae unheld; blocks first, at relaxation 1, it finds
+no gait beyond tolerance at the knee springs fitted without the agreement rule below
+(:mod:`thesis.physics.solver`); its contact rows take their own relaxation, 0.3.
 
-Agreement was added to the procedure after its fit without it (5.105 N m/rad on that
-solver: the nearest run, whose three starts walked 0.224-0.370 m/s) had been adopted and
-chapter 4 had been run on it; it is justified by the calibration's own runs alone (the
+Disclosure: the agreement rule was decided after a fit without it (5.105 N m/rad on that
+solver: the nearest run, whose three starts walk 0.224-0.370 m/s) had been used to run
+chapter 4; it is justified by the calibration's own runs alone (the
 spread of the fit's starts against the thesis's two speeds), and the departure
 ``ch3.knee_spring_fitted`` declares when it was decided. With it the procedure fits 2.0
 N m/rad, a grid point whose starts all walk 0.300 m/s (7 of the 14 runs disagree, all
-of them between 4.9 and 5.4 N m/rad). Without it the procedure fitted 1.944 N m/rad on the
+of them between 4.9 and 5.4 N m/rad). Without it the procedure fits 1.944 N m/rad on the
 Jacobi order and 1.807 with the contact rows at 1.0.
 """
 

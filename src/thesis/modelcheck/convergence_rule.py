@@ -1,6 +1,6 @@
-"""The three-valued verdict of a convergence table (issue 53 item 1): does refining the
-time step or the solver sweeps move the validation quantities by more than their
-tolerance (speeds :data:`SPEED_TOLERANCE`, fall rate :data:`FALL_TOLERANCE`)?
+"""The three-valued verdict of a convergence table (docs/architecture.md#engine-rules):
+does refining the time step or the solver sweeps move the validation quantities by more
+than their tolerance (speeds :data:`SPEED_TOLERANCE`, fall rate :data:`FALL_TOLERANCE`)?
 
 A convergence table runs the same runs (cases x starts, or Tab. 5.1 cells x trials) at a
 reference setting and at refined ones. On a gait that sometimes falls, whether a run falls
@@ -46,9 +46,9 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-#: Largest relative change of a case's speed between the settings (issue 53 item 1).
+#: Largest relative change of a case's speed between the settings.
 SPEED_TOLERANCE = 0.10
-#: Largest change of the fall rate [fraction] between the settings (issue 53 item 1).
+#: Largest change of the fall rate [fraction] between the settings.
 FALL_TOLERANCE = 0.05
 #: Error level of each verdict (two-sided intervals).
 ALPHA = 0.05

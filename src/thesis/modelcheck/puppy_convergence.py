@@ -1,6 +1,6 @@
 """``thesis validate puppy`` (registry ``model/puppy_convergence``): the simulated Puppy
 II's recordings at the chapter's time step, at half of it and with twice the solver sweeps
-(issue 53 item 1, the convergence table of the Puppy II).
+(the convergence table of the Puppy II, docs/architecture.md#engine-rules).
 
 Chapter 5's recordings (:func:`thesis.terrain.recordings.generate`) are made three times
 from the same trial table, starts, terrain jitter, gait commands and sensor noise (the

@@ -1,5 +1,6 @@
-"""Validation targets of the simulated Oncilla (issue 53 item 2): what the real robot
-walked, as published in the thesis, and the rules that decide whether the model meets it.
+"""Validation targets of the simulated Oncilla (docs/architecture.md#engine-rules): what
+the real robot walked, as published in the thesis, and the rules that decide whether the
+model meets it.
 
 Written before any model change is tried, so that no rule is chosen after seeing what the
 model does. This is validation-decision code: like :mod:`thesis.claims` it reads the

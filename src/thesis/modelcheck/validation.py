@@ -1,6 +1,6 @@
 """``thesis validate oncilla`` (registry ``model/validation``, ``model/convergence``): the
 simulated Oncilla on the thesis's own published gaits, decided against the validation
-targets V1-V6 of :mod:`thesis.modelcheck.targets` (issue 53 item 2).
+targets V1-V6 of :mod:`thesis.modelcheck.targets` (docs/architecture.md#engine-rules).
 
 Protocol (every run; the one of ``thesis bench oncilla``, :mod:`thesis.modelcheck.checks`):
 untethered, flat floor, the ch4 model (``ch4.model``: time step, solver sweeps); the
@@ -29,9 +29,9 @@ recorded inside or outside the model's reach (:func:`reach`). V1-V6 are decided 
 perturbed starts per case (the first ``starts`` of them are the validation's): at the
 model's dt, at dt / 2, and at dt with twice the solver sweeps (the physical softness of
 :mod:`thesis.physics.builder` does not change with dt, so the three simulate one robot).
-The speeds must move by at most 10 % and the fall rate by at most 5 percentage points
-(issue 53 item 1), decided three-valued on intervals that carry the starts' sampling
-spread (:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
+The speeds must move by at most 10 % and the fall rate by at most 5 percentage points,
+decided three-valued on intervals that carry the starts' sampling spread
+(:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
 inconclusive. Beside them, each setting records the legs' stance on the stops, so that the
 table shows whether the cases that move are those whose legs the stop rows carry.
 """

@@ -9,8 +9,8 @@ chapter 7; this adapter lets both be run with the same batched evaluation as
     state = tell(state, fitness)   # fitness (popsize,), MAXIMISED
 
 pycma minimises, so ``tell`` passes ``-fitness`` (NaN fitness counts as ``-inf``, i.e.
-the worst). Options fixed for reproducibility (ECOSYSTEM §5): an explicit ``seed``,
-``verbose=-9`` and ``verb_log=0`` (nothing printed, no ``outcmaes/`` files), and a fixed
+the worst). Options fixed for reproducibility (pycma's defaults are not): an explicit
+``seed``, ``verbose=-9`` and ``verb_log=0`` (nothing printed, no ``outcmaes/`` files), and a fixed
 ``popsize`` so that every generation has the same batch shape. Bounds use pycma's
 ``BoundTransform`` (``bounds=[lower, upper]``), so asked points are always feasible.
 

@@ -1,6 +1,7 @@
-"""The shared differentiable rigid-body engine (thesis chapter 7, §7.2; DESIGN "The physics engine").
+"""The shared differentiable rigid-body engine (thesis chapter 7, §7.2;
+docs/architecture.md#engine).
 
-Public API (engine_api.md); everything not re-exported here is private:
+Public API (rules: docs/architecture.md#engine-rules); everything not re-exported here is private:
 
 * ``Builder`` -> ``build(dtype) -> (Model, State)``; ``Model``/``State`` pytrees and the
   enums ``JointType``, ``DofKind``, ``ServoKind``, ``GeomType``;

@@ -1,8 +1,8 @@
 """``thesis bench field``: what a static sphere field costs the simulated Oncilla.
 
-Issue 22 item 1 asks that a field of 10,000 pebbles, each contact sphere checking its
-K = 2 nearest, slow the Oncilla by at most 1.3x (listing pebbles as sphere pairs cost
-7.5x for 100 and 32x for 400, CH456 §1.2). This benchmark measures the Oncilla's
+The requirement: a field of 10,000 pebbles, each contact sphere checking its K = 2
+nearest, slows the Oncilla by at most 1.3x (pebbles listed as sphere pairs would add rows
+for every pebble). This benchmark measures the Oncilla's
 simulated robot-seconds per wall-second on the level floor and on a pebble strip, same
 robots, same open-loop gait, same batch (the ch3/ch4 rollout: ``batched_rollout`` split
 over the profile's host devices, one robot at a time per device).
@@ -167,7 +167,7 @@ def sphere_field(ctx):
         },
         coords={"condition": conditions},
         attrs=dict(title="Static sphere field: cost on the simulated Oncilla",
-                   thesis_ref="engine benchmark (issue 22 item 1); §4.6 pebbles",
+                   thesis_ref="engine benchmark; §4.6 pebbles",
                    seeds=[0], layout="R2 quasi-random sequence (no random stream)",
                    pebbles=int(cfg["pebbles"]), k=int(cfg["k"]), batch=batch,
                    simulated_seconds=seconds, repeats=int(cfg["repeats"]),

@@ -1,4 +1,5 @@
-"""Model builder: the only host-to-device boundary of the engine (thesis §7.2, FACTS §2.2-2.3).
+"""Model builder: the only host-to-device boundary of the engine (thesis §7.2;
+docs/sources.md#tpx-bodies).
 
 A robot file declares bodies, joints, servos, springs, materials, planes, contact spheres
 and cameras by name, in world coordinates of the initial pose, and ``build()`` turns them
@@ -8,21 +9,21 @@ parameters as ``jax.Array``) and the initial :class:`~thesis.physics.types.State
 Decisions (documented here because the original's JSON format leaves them implicit):
 
 * Inertia: boxes ``m (b^2 + c^2) / 12`` etc.; solid spheres ``0.4 m r^2``. The original's
-  sphere inertia ``0.4 m`` without ``r^2`` (FACTS §2.3 quirk) only with
+  sphere inertia ``0.4 m`` without ``r^2`` (docs/sources.md#tpx-bodies quirk) only with
   ``inertia="tpx_quirk"``.
 * Softness: every constraint row is a damped spring of natural frequency ``hz`` and
-  damping ratio ``zeta`` (FACTS §2.4 item 3, see ``constraint.py``), relative to the
+  damping ratio ``zeta`` (docs/sources.md#tpx-step item 3, see ``constraint.py``), relative to the
   row's effective mass: a row of effective mass m acts as a spring of stiffness
   m (2 pi hz)^2 [N/m or N m/rad] with damping 2 zeta m (2 pi hz), so a light body carrying
   a heavy one (a foot under a torso) sags by ``g / (2 pi hz)^2`` times the mass ratio.
   ``hz`` is a physical property of the robot, not of the integrator: it does not change
   with ``dt``, so halving the step or doubling the sweeps refines a simulation of the
-  same robot (issue 53; the engine's validation shows the convergence). Defaults
+  same robot (the engine's validation shows the convergence). Defaults
   (:data:`JOINT_HZ`, :data:`LIMIT_HZ`, :data:`CONTACT_HZ`, ``zeta = 1``, critical
-  damping) are 100 Hz for joints and limits and 25 Hz for contacts: the values that the
-  earlier rule ``1 / dt`` and ``0.25 / dt`` gave at the builder's default dt of 0.01 s,
-  which every model built at that dt keeps (ball, arm, quadruped, cart-pole); a model
-  with another step states its own (:func:`thesis.physics.models.oncilla.oncilla`,
+  damping) are 100 Hz for joints and limits and 25 Hz for contacts: ``1 / dt`` and
+  ``0.25 / dt`` at the builder's default dt of 0.01 s, the step of every model built
+  with the defaults (ball, arm, quadruped, cart-pole; docs/sources.md#engine-compliance);
+  a model with another step states its own (:func:`thesis.physics.models.oncilla.oncilla`,
   :func:`thesis.physics.models.puppy.puppy`). Stiff joints keep the sag below a
   millimetre; contacts stiffer than a quarter of the step rate, with warm starting and a
   non-converged parallel solve, can sustain a small bouncing limit cycle (seen on the
@@ -71,7 +72,8 @@ def box_inertia(mass, size):
 
 
 def sphere_inertia(mass, radius, kind="solid"):
-    """(3, 3) inertia of a sphere: ``"solid"`` 0.4 m r^2, ``"tpx_quirk"`` 0.4 m (FACTS §2.3)."""
+    """(3, 3) inertia of a sphere: ``"solid"`` 0.4 m r^2, ``"tpx_quirk"`` 0.4 m
+    (docs/sources.md#tpx-bodies)."""
     if kind == "solid":
         return 0.4 * mass * radius ** 2 * np.eye(3)
     if kind == "tpx_quirk":
@@ -97,12 +99,13 @@ def _perp(a):
 
 
 class Builder:
-    """Declarative model construction by name (engine_api.md).
+    """Declarative model construction by name (docs/architecture.md#engine-rules).
 
     Args:
         name: model name.
         dt: time step [s]. solver_iterations: PGS sweeps per step. gravity: (3,) [m/s^2].
-        warm_start: fraction of the previous impulses used as the initial guess (FACTS §2.4).
+        warm_start: fraction of the previous impulses used as the initial guess
+        (docs/sources.md#tpx-step).
         relaxation: Jacobi relaxation factor of the solver (see ``solver.py``).
         sweep_order: ``"jacobi"`` (default: every joint block and scalar row updated from
             the same velocities) or ``"blocks_first"`` (the joint blocks, then the scalar
@@ -114,7 +117,7 @@ class Builder:
         limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).
         reortho_iterations: eq. 7.1 steps per time step.
         restitution_threshold: [m/s] (None: 2 |g| dt). contact_slop: [m] penetration
-            left uncorrected (the original's ground ``delta``, FACTS §2.6).
+            left uncorrected (the original's ground ``delta``, docs/sources.md#tpx-contact).
         toi_correction: correct positions for the time of impact of sphere-plane contacts
             (``step.toi_correction``); off by default, as in the original engine.
         friction, restitution, contact_hz, contact_zeta: the "default" material
@@ -203,10 +206,10 @@ class Builder:
                 color=(0.8, 0.8, 0.8), texture=None, visible=True, inertia=None):
         """Add a solid box body of full edge lengths ``size`` [m] at ``pos`` (its centre).
 
-        Mass is ``density * volume`` [kg/m^3] unless ``mass`` [kg] is given (FACTS §2.3).
-        ``rot`` is a 3x3 matrix or a quaternion [w, x, y, z]. ``inertia`` (3, 3) [kg m^2]
-        about the centre, body frame, replaces the solid box's for a body whose mass is
-        not spread evenly (e.g. motors mounted at its sides). Returns ``name``.
+        Mass is ``density * volume`` [kg/m^3] unless ``mass`` [kg] is given
+        (docs/sources.md#tpx-bodies). ``rot`` is a 3x3 matrix or a quaternion [w, x, y, z].
+        ``inertia`` (3, 3) [kg m^2] about the centre, body frame, replaces the solid box's for a
+        body whose mass is not spread evenly (e.g. motors mounted at its sides). Returns ``name``.
         """
         size = np.asarray(size, np.float64)
         m = density * float(np.prod(size)) if mass is None else float(mass)
@@ -221,7 +224,7 @@ class Builder:
     def add_sphere(self, name, radius, pos, rot=None, mass=None, density=1000.0,
                    color=(0.8, 0.8, 0.8), texture=None, inertia="solid", visible=True):
         """Add a solid sphere body of ``radius`` [m]; ``inertia="tpx_quirk"`` reproduces the
-        original's 0.4 m (FACTS §2.3). Returns ``name``."""
+        original's 0.4 m (docs/sources.md#tpx-bodies). Returns ``name``."""
         m = density * 4.0 / 3.0 * np.pi * radius ** 3 if mass is None else float(mass)
         self._add_body(name, pos, rot, m, sphere_inertia(m, radius, inertia))
         if visible:
@@ -291,7 +294,7 @@ class Builder:
     # ---- actuators and springs ------------------------------------------------------
     def add_position_servo(self, joint, gain, max_torque, max_velocity, deadband=0.0,
                            axis_index=0, command_range=None, name=None):
-        """Position servo (FACTS §2.7): drives the joint coordinate's rate towards
+        """Position servo (docs/sources.md#tpx-servo): drives the joint coordinate's rate towards
         ``-clip(gain * error, +-max_velocity)`` (zero inside ``deadband``) with at most
         ``max_torque`` [N m, or N for sliders]. ``gain`` [1/s]; commands are clipped to
         ``command_range`` (default: the joint limits, if any). Returns the servo index."""
@@ -504,7 +507,7 @@ class Builder:
 
     def add_camera(self, name, body, pos, rot, focal_length, sensor_size, pixels):
         """Pinhole camera; ``pos``/``rot`` relative to ``body`` ("world" for a fixed camera);
-        camera frame x right, y down, z forward (FACTS §2.9). Returns ``name``."""
+        camera frame x right, y down, z forward (docs/sources.md#tpx-camera). Returns ``name``."""
         self.cameras.append(dict(name=name, body=self._body(body), pos=np.asarray(pos, float),
                                  rot=_rot(rot), focal=float(focal_length),
                                  sensor=tuple(sensor_size), pixels=tuple(int(p) for p in pixels)))

@@ -1,11 +1,11 @@
-"""Differentiable pinhole camera of the engine (thesis §7.3.3.1, FACTS §2.9).
+"""Differentiable pinhole camera of the engine (thesis §7.3.3.1, docs/sources.md#tpx-camera).
 
 A camera is a pinhole at ``pos`` with orientation ``rot`` (world = pos + rot @ camera-frame
 point). Camera frame: x right, y down, z forward (the camera looks along +z). The sensor
 of ``sensor_size = (w, h)`` metres lies at ``focal_length`` in front of the pinhole (the
 virtual, non-inverted image plane) and is divided into ``pixels = (px_w, px_h)`` pixels;
-one ray is cast through every pixel centre (FACTS §2.9). Images are (H, W, 3) = (px_h,
-px_w, 3), row 0 at the top, column 0 on the left.
+one ray is cast through every pixel centre (docs/sources.md#tpx-camera). Images are (H, W, 3) =
+(px_h, px_w, 3), row 0 at the top, column 0 on the left.
 
 Pixel coordinates (:func:`project` / :func:`project_points`) are (column, row) in pixel
 units with integer values at pixel centres, so the pixel ``image[i, j]`` is centred at
@@ -50,7 +50,7 @@ def _sensor_coords(focal_length, sensor_size, pixels, dtype):
 
 
 def camera_rays(pos, rot, focal_length, sensor_size, pixels):
-    """One world-frame ray per pixel centre of a pinhole camera (FACTS §2.9).
+    """One world-frame ray per pixel centre of a pinhole camera (docs/sources.md#tpx-camera).
 
     Args:
         pos: (3,) pinhole position, world frame [m].
@@ -81,7 +81,7 @@ def camera_rays(pos, rot, focal_length, sensor_size, pixels):
 
 
 def project(pos, rot, focal_length, sensor_size, pixels, points, z_min=1e-6):
-    """Pinhole projection of world points to pixel coordinates (FACTS §2.9).
+    """Pinhole projection of world points to pixel coordinates (docs/sources.md#tpx-camera).
 
     Args:
         pos, rot, focal_length, sensor_size, pixels: the camera, as in :func:`camera_rays`.

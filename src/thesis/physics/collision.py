@@ -1,5 +1,5 @@
 """Contact detection: sphere-plane and sphere-sphere pairs, sphere fields (thesis §7.2,
-FACTS §2.6).
+docs/sources.md#tpx-contact).
 
 The original engine only knew spheres against the ground z = 0; here a plane may have any
 orientation (slopes) and listed pairs of contact spheres collide too. The pair list is
@@ -12,8 +12,8 @@ A static sphere field (``Builder.add_sphere_field``: pebbles, rough ground, thou
 world-fixed spheres) adds a fixed number of contacts after the pairs: each query sphere
 against its ``k`` nearest field spheres, chosen every step among the spheres of the 3 x 3
 cells of a uniform x-y grid around it (:func:`field_contacts`). Listing N pebbles as
-pairs costs rows for all of them (7.5x the Oncilla's cost with 100 pebbles, 32x with
-400, CH456 §1.2); the grid keeps the cost independent of N.
+pairs costs rows for all of them, which grows with N; the grid keeps the cost independent
+of N.
 
 Collision functions are kept in a static table keyed by (GeomType, GeomType).
 """

@@ -1,14 +1,14 @@
 """Constraint rows of one time step: joints, servos, limits, springs, contacts.
 
 Every row i asks ``J_i v + bias_i + cfm_i * lambda_i = 0`` for the post-step velocities v
-and its accumulated impulse lambda_i in [lo_i, hi_i] (FACTS §2.4-2.7). The rows come in
+and its accumulated impulse lambda_i in [lo_i, hi_i] (docs/sources.md#tpx-step). The rows come in
 two families with static shapes:
 
 * joint blocks (n_joint, 6): the equality rows of each joint, solved together;
 * scalar rows (n_rows,): ``[servos | limits | joint springs | springs | tethers |
   contact normals | friction t1 | friction t2 | (torsion)]`` in that static order.
 
-Softness (FACTS §2.4 item 3, derived so its units are consistent): a row with natural
+Softness (docs/sources.md#tpx-step item 3, derived so its units are consistent): a row with natural
 frequency f [Hz] and damping ratio zeta behaves as an implicit spring-damper of stiffness
 ``k = m_eff w^2`` and damping ``c = 2 m_eff zeta w`` (w = 2 pi f); with h = dt this gives
 ``erp = h k / (h k + c) = hw / (hw + 2 zeta)`` and an impulse-space
@@ -18,7 +18,7 @@ factor dt (a unit slip, kept out). Springs with explicit k [N/m], c [N s/m] use 
 expressions without m_eff (``cfm_abs``), i.e. they are integrated implicitly and stay
 stable for any stiffness.
 
-Servos (FACTS §2.7): a hard velocity row along the joint coordinate with target rate
+Servos (docs/sources.md#tpx-servo): a hard velocity row along the joint coordinate with target rate
 ``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
 or the command for velocity servos, and impulse bounded by ``max_torque * dt``. A
 compliant drive (``ServoKind.COMPLIANT``) is the same row made soft: an implicit
@@ -27,21 +27,19 @@ as its rest angle) whose position-correction rate is clipped to ``+-v_max``.
 Tethers (``Builder.add_tether``): a spring row on the anchor's distance d from its rail
 with impulse in [-inf, 0] (pull only) while d > slack and [0, 0] while slack, so a slack
 tether applies exactly no impulse.
-Contacts (FACTS §2.6): normal row with position correction beyond ``contact_slop`` and
-restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two
-friction rows ``t1``, ``t2`` bounded *together* by a Coulomb cone
-``|(lambda_t1, lambda_t2)| <= mu lambda_n`` (the solver projects the pair, see
-``solver`` and ``rows["cone"]``; a per-row box would be a pyramid aligned with the
-world's axes on a level floor, ``sqrt(2)`` times too strong at 45 deg to them) and an
-optional torsional row ``|lambda_tau| <= torsional * lambda_n`` (a box). A contact with a
-directional sphere (``Model.directional``) has an elliptic cone in its grain's frame:
-``t1`` lies along the sphere's direction (``collision.directional_basis``: a negative
-impulse resists sliding forward) with the semi-axis ``mu_backward`` on the positive side
-and ``mu_forward`` on the negative side, ``t2`` across it with ``mu``; the rows then carry
-a lower-bound coefficient ``fric_lo`` beside ``fric``. Where the grain turns towards the
-contact normal, the forward and backward coefficients fade into the lateral one
-(``collision.directional_basis``'s weight): a grain normal to the surface has no forward
-or backward, every tangential slide crosses it.
+Contacts (docs/sources.md#tpx-contact): normal row with position correction beyond ``contact_slop``
+and restitution ``e * min(v_n + threshold, 0)`` (continuous in the approach speed), two friction
+rows ``t1``, ``t2`` bounded *together* by a Coulomb cone ``|(lambda_t1, lambda_t2)| <= mu lambda_n``
+(the solver projects the pair, see ``solver`` and ``rows["cone"]``; a per-row box would be a pyramid
+aligned with the world's axes on a level floor, ``sqrt(2)`` times too strong at 45 deg to them) and
+an optional torsional row ``|lambda_tau| <= torsional * lambda_n`` (a box). A contact with a
+directional sphere (``Model.directional``) has an elliptic cone in its grain's frame: ``t1`` lies
+along the sphere's direction (``collision.directional_basis``: a negative impulse resists sliding
+forward) with the semi-axis ``mu_backward`` on the positive side and ``mu_forward`` on the negative
+side, ``t2`` across it with ``mu``; the rows then carry a lower-bound coefficient ``fric_lo`` beside
+``fric``. Where the grain turns towards the contact normal, the forward and backward coefficients
+fade into the lateral one (``collision.directional_basis``'s weight): a grain normal to the surface
+has no forward or backward, every tangential slide crosses it.
 """
 
 from __future__ import annotations
@@ -105,7 +103,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
     dof_b1 = m.joint_body1[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
     dof_b2 = m.joint_body2[m.dof_joint] if m.n_dof else np.zeros((0,), np.int32)
 
-    # servos (FACTS §2.7)
+    # servos (docs/sources.md#tpx-servo)
     if m.n_servo:
         d = m.servo_dof
         cmd = jnp.clip(action.astype(dtype), m.servo_lo, m.servo_hi)

@@ -2,7 +2,7 @@
 eq. 7.1 re-orthonormalisation.
 
 Positions: ``x' = x + dt v'`` with the *new* velocities (thesis §7.2 "semi-implicit Euler
-integration", FACTS §2.4 item 6).
+integration", docs/sources.md#tpx-step item 6).
 
 Rotations. After the solver, a body carries the world angular momentum ``L = I_w(R) w``
 (``w`` the post-solve angular velocity), which a free body keeps. Between the impulses of

@@ -4,9 +4,9 @@ Every function is vectorised over all joints or joint coordinates at once; per-t
 formulas are selected with static numpy masks (``jnp.where``), never Python branches.
 A Jacobian row is a pair ``(Ja, Jb)`` of (..., 6) vectors ``[linear, angular]`` acting on
 the world velocities of body a (= joint body1) and body b (= body2), so that the rate of
-the constrained quantity is ``Ja . v_a + Jb . v_b`` (thesis §7.2, FACTS §2.5).
-Angles come from ``atan2`` of projections (no ``arccos``, FACTS §2.4 quirk), so they are
-smooth and finite-gradient everywhere in (-pi, pi).
+the constrained quantity is ``Ja . v_a + Jb . v_b`` (thesis §7.2, docs/sources.md#tpx-rows).
+Angles come from ``atan2`` of projections (no ``arccos``, docs/sources.md#tpx-step quirk), so they
+are smooth and finite-gradient everywhere in (-pi, pi).
 """
 
 from __future__ import annotations
@@ -70,7 +70,8 @@ def _rotvec(e):
 
 
 def joint_coordinates(m: Model, fr, vel6):
-    """Joint coordinates, their rates and Jacobian rows (FACTS §2.7 "angle inside motors").
+    """Joint coordinates, their rates and Jacobian rows (angles inside servos and limits:
+    docs/sources.md#tpx-step item 7).
 
     Args:
         fr: output of :func:`joint_frames`.
@@ -122,7 +123,7 @@ def joint_rows(m: Model, fr):
 
     Linear rows keep the two anchors together along body1's joint axes; angular rows lock
     the relative rotation (fixed, slider), keep the hinge axes aligned (hinge), or keep
-    the two universal axes perpendicular (universal) (FACTS §2.5).
+    the two universal axes perpendicular (universal) (docs/sources.md#tpx-rows).
 
     Returns:
         (ja, jb, err): ja, jb (n_joint, 6, 6) rows x [linear, angular]; err (n_joint, 6)

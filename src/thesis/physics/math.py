@@ -1,10 +1,11 @@
 """Small, gradient-safe linear-algebra helpers of the engine (thesis §7.2).
 
 Every function is pure, branch-free and safe to differentiate everywhere: norms use the
-double-``where`` guard (ECOSYSTEM §3), angles come from ``atan2`` (never ``arccos``, whose
-derivative is infinite at ±1, FACTS §2.4), and nothing divides by a quantity that can be 0.
-Rotation matrices follow ``world_point = pos + rot @ local_point`` (columns = body axes in
-world coordinates); the original engine stored the transpose (FACTS §2.3).
+double-``where`` guard (JAX FAQ, "Gradients contain NaN where using ``where``"), angles
+come from ``atan2`` (never ``arccos``, whose derivative is infinite at ±1,
+docs/sources.md#tpx-step), and nothing divides by a quantity that can be 0. Rotation
+matrices follow ``world_point = pos + rot @ local_point`` (columns = body axes in world
+coordinates); the original engine stored the transpose (docs/sources.md#tpx-bodies).
 """
 
 from __future__ import annotations
@@ -76,8 +77,8 @@ def orthonormalize(a, iterations=1):
     """Re-orthonormalise rotation matrices with eq. 7.1, ``A' = (3A - A A^T A) / 2``.
 
     One Newton-Schulz (Bjorck) step towards the nearest orthogonal matrix (thesis eq. 7.1,
-    FACTS §2.4 item 6). The thesis prints the product as elementwise ``A o (A . A)``; the
-    original code and the numerics use the matrix product ``A A^T A`` used here.
+    docs/sources.md#tpx-step item 6). The thesis prints the product as elementwise ``A o (A . A)``;
+    the original code and the numerics use the matrix product ``A A^T A`` used here.
 
     Args:
         a: (..., 3, 3) nearly orthogonal matrices.
@@ -201,7 +202,7 @@ _scale_cotangent.defvjp(_scale_cotangent_fwd, _scale_cotangent_bwd)
 
 def decay_gradient(tree, alpha):
     """Identity forward (bit-exact); multiplies the cotangent of every float leaf of ``tree``
-    by ``alpha`` (the original's ``MulGrad``, §7.3.2's second trick, FACTS §2.1).
+    by ``alpha`` (the original's ``MulGrad``, §7.3.2's second trick, docs/sources.md#tpx-engine).
 
     Applied to the state after every step, the gradient reaching step t from step t + k is
     scaled by alpha^k. ``alpha`` is a scalar (it may be traced) and receives no gradient;

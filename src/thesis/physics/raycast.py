@@ -3,11 +3,11 @@
 Implements the renderer of the differentiable camera of thesis §7.3.3.1 ("This camera
 uses a ray-tracing approach to find where it needs to sample from the textures, and uses
 bilinear interpolation to sample from these textures, similar to the one used for the
-spatial transform layer"), following the original engine's design (FACTS §2.9): one ray
-per pixel centre, analytic ray/sphere and ray/planar-face intersections, nearest hit by
-minimum ray parameter, texture coordinates from spherical angles (spheres) or face axes
-(box faces, planes), bilinear sampling multiplied by the geometry colour, background
-colour where nothing is hit, no lighting.
+spatial transform layer"), following the original engine's design (docs/sources.md#tpx-camera): one
+ray per pixel centre, analytic ray/sphere and ray/planar-face intersections, nearest hit by minimum
+ray parameter, texture coordinates from spherical angles (spheres) or face axes (box faces, planes),
+bilinear sampling multiplied by the geometry colour, background colour where nothing is hit, no
+lighting.
 
 Differentiability. Which geometry a ray hits is a hard (piecewise-constant) decision; the
 hit point, its texture coordinates and the bilinear sample are smooth functions of every
@@ -42,7 +42,7 @@ import numpy as np
 
 __all__ = ["Scene", "SKY_COLOR", "cast", "sample_bilinear"]
 
-#: The original engine's default sky colour (FACTS §2.9): RGB (0, 191/255, 1).
+#: The original engine's default sky colour (docs/sources.md#tpx-camera): RGB (0, 191/255, 1).
 SKY_COLOR = (0.0, 191.0 / 255.0, 1.0)
 
 # |denominator| below which a ray counts as parallel to a face (direction vectors are unit).
@@ -258,7 +258,7 @@ def sample_bilinear(textures, tex_id, u, v, wrap_u, wrap_v):
 
 
 def cast(origins: jax.Array, dirs: jax.Array, scene: Scene, t_min: float = 1e-6) -> jax.Array:
-    """Render the colour seen along each ray (thesis §7.3.3.1, FACTS §2.9).
+    """Render the colour seen along each ray (thesis §7.3.3.1, docs/sources.md#tpx-camera).
 
     Args:
         origins: (..., 3) ray origins, world frame [m].

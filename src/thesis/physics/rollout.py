@@ -4,7 +4,7 @@
 feeding the controller the sensors of the current state; it is a pure function, so
 ``jax.jit``, ``jax.vmap`` (batches of robots) and ``jax.grad`` (BPTT w.r.t. controller
 parameters, the initial state or model parameters, eq. 7.2-7.3) apply directly.
-Two tricks of §7.3.2 / FACTS §2.11 are built in:
+Two tricks of §7.3.2 / docs/sources.md#tpx-experiments are built in:
 
 * ``grad_decay`` = alpha < 1: identity in the forward pass, but the gradient flowing back
   through each time step's state is multiplied by alpha (the original's ``MulGrad``),
@@ -16,8 +16,8 @@ Two tricks of §7.3.2 / FACTS §2.11 are built in:
 
 ``batched_rollout`` runs a batch of initial states (and optionally memories), robot by
 robot or in vmapped chunks, and, when more than one XLA host device exists
-(``--xla_force_host_platform_device_count``, FACTS §8: XLA runs one core per device
-here), splits the batch across the devices with ``jax.shard_map``.
+(``--xla_force_host_platform_device_count``, XLA runs one core per device,
+docs/architecture.md#both-cores here), splits the batch across the devices with ``jax.shard_map``.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Sensors of a robot (thesis §7.3.1 "81 sensors, e.g. encoders and an IMU"; FACTS §2.8).
+"""Sensors of a robot (thesis §7.3.1 "81 sensors, e.g. encoders and an IMU";
+docs/sources.md#tpx-sensors).
 
 ``sensors(model, state)`` returns every sensor at once as named arrays; controllers pick
 what they need. The accelerometer differentiates the linear velocity over the last step

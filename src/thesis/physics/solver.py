@@ -1,4 +1,5 @@
-"""Projected block-Jacobi solver of the velocity-level LCP (thesis §7.2, FACTS §2.4 item 5).
+"""Projected block-Jacobi solver of the velocity-level LCP (thesis §7.2;
+docs/sources.md#tpx-step item 5).
 
 Choice and why. The original updates every row in parallel (Jacobi) inside each of a
 fixed number of iterations. A row-by-row Gauss-Seidel sweep, or a Gauss-Seidel over a

@@ -1,4 +1,4 @@
-"""One time step of the engine, written as the algorithm of FACTS §2.4 / thesis §7.2.
+"""One time step of the engine, written as the algorithm of docs/sources.md#tpx-step / thesis §7.2.
 
 1. apply gravity (external forces) to the velocities;
 2. detect contacts and build the constraint rows (joints, servos, limits, springs, tethers,
@@ -126,12 +126,12 @@ def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
         action: (n_servo,) servo commands (rad / m for position servos, rad/s / m/s for
             velocity servos).
         warm_start_grad: fraction of the gradient that flows through the warm start (last
-            step's impulses as the solver's initial guess, FACTS §2.4 step 4); the forward
-            pass is unchanged. 1.0 (default) is the exact derivative of the truncated
-            solver; 0.0 treats the initial guess as a constant, as the derivative of a
-            converged solve would (its solution does not depend on the guess). Measured on
-            the Tab. 7.1 quadruped's closed loop: the gradient grows x1.31 per step with
-            the warm start (0.85) and x1.03 with warm start 0.
+            step's impulses as the solver's initial guess, docs/sources.md#tpx-step step 4); the
+            forward pass is unchanged. 1.0 (default) is the exact derivative of the truncated
+            solver; 0.0 treats the initial guess as a constant, as the derivative of a converged
+            solve would (its solution does not depend on the guess). Measured on the Tab. 7.1
+            quadruped's closed loop: the gradient grows x1.31 per step with the warm start (0.85)
+            and x1.03 with warm start 0.
     Returns:
         The next State (its ``joint_impulse``/``row_impulse`` are this step's impulses).
     """

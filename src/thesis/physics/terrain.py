@@ -1,4 +1,4 @@
-"""Terrain as data: slopes and floor materials as Model leaves (issue 22 item 5).
+"""Terrain as data: slopes and floor materials as Model leaves.
 
 A chapter that runs a robot on several terrains (ch4: flat, 9 % and 18 % grades, a
 pebbly floor; ch5: five floor materials) should compile its rollout once. Everything a

@@ -1,4 +1,5 @@
-"""Model and State pytrees and the enums of the engine (thesis §7.2, DESIGN "The physics engine").
+"""Model and State pytrees and the enums of the engine (thesis §7.2,
+docs/architecture.md#engine).
 
 Both are frozen dataclasses registered with ``jax.tree_util``. Fields listed in a class's
 ``_STATIC`` tuple are topology and loop counts (ints, tuples, numpy arrays, strings): they
@@ -9,10 +10,10 @@ physical parameters can be differentiated (morphology gradients) and batched wit
 
 Conventions: world frame z up; a body's pose is (pos, rot) with
 ``world_point = pos + rot @ local_point`` (the original engine stored ``rot`` transposed,
-FACTS §2.3); ``pos`` is the centre of mass; ``vel``/``angvel`` are world-frame linear and
-angular velocities of the centre of mass. Index ``n_body`` stands for the static world body
-in every body-index array (``geom_body`` and ``camera_body`` use -1 for the world, as in
-the camera contract).
+docs/sources.md#tpx-bodies); ``pos`` is the centre of mass; ``vel``/``angvel`` are world-frame
+linear and angular velocities of the centre of mass. Index ``n_body`` stands for the static world
+body in every body-index array (``geom_body`` and ``camera_body`` use -1 for the world, as in the
+camera contract).
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ __all__ = ["JointType", "DofKind", "ServoKind", "GeomType", "Model", "State", "S
 
 
 class JointType(enum.IntEnum):
-    """Joint kinds (FACTS §2.5). ``dof_width()`` is the number of free joint coordinates."""
+    """Joint kinds (docs/sources.md#tpx-rows). ``dof_width()`` is the number of free joint
+    coordinates."""
 
     HINGE = 0
     UNIVERSAL = 1
@@ -48,9 +50,9 @@ class DofKind(enum.IntEnum):
 
 
 class ServoKind(enum.IntEnum):
-    """Position servo (target coordinate), velocity servo (target rate), FACTS §2.7, or
-    compliant position drive (an implicit spring-damper towards the command, bounded in
-    torque and speed: ``Builder.add_compliant_servo``)."""
+    """Position servo (target coordinate), velocity servo (target rate)
+    (docs/sources.md#tpx-servo), or compliant position drive (an implicit spring-damper
+    towards the command, bounded in torque and speed: ``Builder.add_compliant_servo``)."""
 
     POSITION = 0
     VELOCITY = 1
@@ -58,7 +60,7 @@ class ServoKind(enum.IntEnum):
 
 
 class GeomType(enum.IntEnum):
-    """Visual geometry kinds read by the camera (engine_api.md)."""
+    """Visual geometry kinds read by the camera (:mod:`thesis.physics.camera`)."""
 
     SPHERE = 0
     BOX = 1

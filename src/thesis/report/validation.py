@@ -242,8 +242,8 @@ def convergence_cases_table(results: dict) -> Table:
 
 def calibration_table(results: dict) -> Table:
     """The fitted knee spring: the grid, the refinement runs in each bracket, the fit, its
-    residual, whether it holds and the value the chapters run (every fitted value with its
-    fit and residual, issue 53 item 4)."""
+    residual, whether it holds and the value the chapters run (every fitted value is shown
+    with its fit and residual, docs/architecture.md#engine-rules)."""
     ds = results.get(CALIBRATION)
     cols = ["knee spring [N m/rad]", "speed [m/s] (starts)", "fallen",
             "stance compression [mm]", "role"]

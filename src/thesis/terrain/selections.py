@@ -24,7 +24,7 @@ Three modes (``ch5.protocol.selection``, the choice and its reasons in departure
   parts of its own trials. A selection then spans as many recordings, and so as many
   (gait, frequency) cells, as the terrain's trials allow, and folds stay trial-disjoint
   because whole trials are assigned to sides and parts are drawn within each side.
-* ``"blocks"`` (the previous protocol, :func:`thesis.terrain.protocol.make_selections`):
+* ``"blocks"`` (consecutive blocks, :func:`thesis.terrain.protocol.make_selections`):
   consecutive blocks of the concatenated trials; a trial may be cut across selections.
 
 Where a terrain has too few trials for five disjoint selections, ``"trials"`` and
@@ -36,12 +36,12 @@ Where a terrain has too few trials for five disjoint selections, ``"trials"`` an
    the tuning (unused trials first; samples from the trials' ends in ``"trials"``, parts
    the tuning did not take in ``"parts"``). No fold has a recording on both sides; the
    tuned hyper-parameters have seen recordings the verification tests on;
-3. ``"cut"``: the previous protocol's blocks for that terrain (a fold's sides share its
+3. ``"cut"``: the ``"blocks"`` protocol's blocks for that terrain (a fold's sides share its
    recordings; the default profile's terrains never get here, the smoke profile's
    one-trial terrains do).
 
 Trials no selection touched are the "remaining relevant trials" (test set); the untouched
-rest of a touched trial is dropped, as before.
+rest of a touched trial is dropped.
 """
 
 from __future__ import annotations

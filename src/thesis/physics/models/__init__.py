@@ -2,7 +2,8 @@
 
 Each constructor takes keyword overrides (time step, solver iterations, servo limits,
 camera pixels, dtype ...) so profiles can change them, and returns ``(Model, State)``.
-Every number cites its source: the thesis section, or FACTS §2.10 / the [TPX] robot JSON.
+Every number cites its source: the thesis section, or docs/sources.md (the original engine's robot
+files: #tpx-ball, #tpx-arm, #tpx-quadruped, #tpx-pendulum).
 """
 
 from thesis.physics.models.arm4 import arm4 as arm4

@@ -2,14 +2,14 @@
 
 Thesis §7.3.2: "2 degrees of freedom actuated universal joint" at the base and a 2-DoF
 actuated elbow, 1 m long, 32 kg, servos with gain 30 1/s, torque 30 N m, velocity
-45 deg/s. Layout from [TPX] ``robotmodel/robot_arm.json`` (FACTS §2.10): each 2-DoF joint
-is two hinges around a 0.1 m sphere (base: z then y, elbow: z then y), boxes
-0.14 x 0.14 x 0.5 m, end effector sphere r 0.1 m fixed on top at z 1.1 m, density
-1000 kg/m^3 (total 32.2 kg); y hinges limited to +-90 deg; servo dead band 0.01 rad;
-ground contacts on the elbow and end-effector spheres (mu 0.5, slop 0.01 m, restitution
-0.01); dt 0.01 s, 20 solver iterations, warm start 0.85 (softness: the builder's
-physical defaults, joints and limits 100 Hz, contacts 25 Hz); the base is fixed to the world
-(the JSON's 1e6 kg "universe"). The JSON's 10 N m torque is overridden by the thesis's 30.
+45 deg/s. Layout from [TPX] ``robotmodel/robot_arm.json`` (docs/sources.md#tpx-arm): each 2-DoF
+joint is two hinges around a 0.1 m sphere (base: z then y, elbow: z then y), boxes 0.14 x 0.14 x 0.5
+m, end effector sphere r 0.1 m fixed on top at z 1.1 m, density 1000 kg/m^3 (total 32.2 kg); y
+hinges limited to +-90 deg; servo dead band 0.01 rad; ground contacts on the elbow and end-effector
+spheres (mu 0.5, slop 0.01 m, restitution 0.01); dt 0.01 s, 20 solver iterations, warm start 0.85
+(softness: the builder's physical defaults, joints and limits 100 Hz, contacts 25 Hz); the base is
+fixed to the world (the JSON's 1e6 kg "universe"). The JSON's 10 N m torque is overridden by the
+thesis's 30.
 
 Deviation: effective servo torque and solver sweeps of the reaching experiments.
 ``arm4()``'s defaults are the thesis's servo torque (``THESIS_SERVO_TORQUE`` = 30 N m) and
@@ -19,15 +19,15 @@ end effector on the §7.3.2.1 target (0.5, 0.5, 0.5) m and ~158 N m with the arm
 horizontal, so the arm falls and the end effector lies on the floor ~0.42 m from the
 target whatever the controller commands (measured; ``tests/diffphys/test_arm.py``). The
 thesis's engine nevertheless reached the target within 1 cm. The reason is the quirk of
-FACTS §2.4: the Theano engines add M^-1 J^T P with the *accumulated* impulse P on every
-one of the 20 PGS iterations, so the velocity change a servo row produces in one step is
-a sum of up to 20 partial accumulations, each clipped to ``motor_torque * dt``; the clip
-of 30 N m there does not bound the real torque to 30 N m. Our solver applies each impulse
-once (the numpy reference's semantics), so the servo bound below is the *real* torque.
-The reaching experiments therefore use an effective torque and more sweeps, both set per
-experiment in the config (``ch7.arm_fixed.servo_torque`` / ``solver_iterations``, the
-same keys under ``ch7.arm_random``; defaults in ``config/schema.yaml``) and recorded in
-the datasets (``servo_torque_nm``, ``thesis_servo_torque_nm``, ``solver_iterations``):
+docs/sources.md#tpx-step: the Theano engines add M^-1 J^T P with the *accumulated* impulse P on
+every one of the 20 PGS iterations, so the velocity change a servo row produces in one step is a sum
+of up to 20 partial accumulations, each clipped to ``motor_torque * dt``; the clip of 30 N m there
+does not bound the real torque to 30 N m. Our solver applies each impulse once (the numpy
+reference's semantics), so the servo bound below is the *real* torque. The reaching experiments
+therefore use an effective torque and more sweeps, both set per experiment in the config
+(``ch7.arm_fixed.servo_torque`` / ``solver_iterations``, the same keys under ``ch7.arm_random``;
+defaults in ``config/schema.yaml``) and recorded in the datasets (``servo_torque_nm``,
+``thesis_servo_torque_nm``, ``solver_iterations``):
 
 * torque: with the hand-computed inverse-kinematics command for the target held
   constant (8 s, dt 0.01 s, 80 sweeps) 120 N m lets the arm collapse
@@ -54,7 +54,7 @@ from thesis.physics.builder import Builder
 __all__ = ["arm4", "THESIS_SERVO_TORQUE"]
 
 #: Servo torque stated by the thesis (§7.3.2) [N m]: a clip on the accumulated impulse of
-#: the original engine, not a bound on the real torque (module docstring, FACTS §2.4).
+#: the original engine, not a bound on the real torque (module docstring, docs/sources.md#tpx-step).
 THESIS_SERVO_TORQUE = 30.0
 
 

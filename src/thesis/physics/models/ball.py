@@ -1,12 +1,13 @@
 """The giant soccer ball of thesis §7.2.1 (Fig. 7.3a).
 
 Sources: thesis §7.2.1 ("1 m diameter, a friction of mu = 1.0 and restitution e = 0.5",
-starts at (0, 0)); [TPX] ``robotmodel/ball.json`` via FACTS §2.10 (centre height 1.5 m,
+starts at (0, 0)); [TPX] ``robotmodel/ball.json`` (docs/sources.md#tpx-ball) (centre height 1.5 m,
 density 1000 kg/m^3 -> 523.6 kg, dt 0.01 s, 1 solver iteration, warm start 0.85, no
 torsional friction). Contact softness is ours: 25 Hz, critically damped
 (``CONTACT_HZ`` of :mod:`thesis.physics.builder`; a physical constant, 0.25 / dt at the
 default dt 0.01 s): the original's f/zeta values do not transfer because its
-soft-constraint formula differs by a factor dt (FACTS §2.4 quirk, see ``constraint.py``).
+soft-constraint formula differs by a factor dt (docs/sources.md#tpx-step quirk, see
+``constraint.py``).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ def ball(*, dt=0.01, solver_iterations=1, radius=0.5, height=1.5, friction=1.0,
     Args (defaults cited in the module docstring): dt [s]; solver_iterations; radius [m]
     (§7.2.1: 1 m diameter); height of the centre [m] (ball.json); friction, restitution
     (§7.2.1); warm_start; initial velocity [m/s] and angular velocity [rad/s];
-    inertia "solid" or "tpx_quirk" (FACTS §2.3); gravity; contact softness
+    inertia "solid" or "tpx_quirk" (docs/sources.md#tpx-bodies); gravity; contact softness
     ``contact_hz`` [Hz] (None: ``CONTACT_HZ``, 25 Hz, whatever dt) and ``contact_zeta``;
     toi_correction: time-of-impact position correction (``physics.step.toi_correction``;
     not in the original engine); dtype.

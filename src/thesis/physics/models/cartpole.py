@@ -1,15 +1,14 @@
 """The pendulum-cart system of thesis §7.3.3.1, seen by a camera (Fig. 7.4).
 
-From [TPX] ``robotmodel/pendulum.json`` (FACTS §2.10): sled box 0.15^3 m at (0, 0, 0.3) on
-a slider to the world along x with a linear position servo (command = sled x [m], within
-+-1 m, gain 15 1/s); bar box 0.07 x 0.1 x 0.6 m at the origin hinged to the sled at
-z 0.3 about y; "top" box 0.15^3 m at z -0.3 fixed to the bar (the pole hangs down at
-start); density 1000 kg/m^3; dt 0.01 s, 20 solver iterations, warm start 0; the
-builder's physical softness (joints 100 Hz, contacts 25 Hz, independent of dt). Camera
-``front_camera`` at (0, 2, 0.3) looking along -y (the JSON's quaternion turns the
-original's x-looking camera by 90 deg about z), 288 x 96 px (thesis Fig. 7.4), sensor
-0.036 x 0.012 m, focal length 0.018 m; a textured backdrop plane at y = -1. The JSON
-gives no force limit for the sled servo (unbounded here by default) and textures from
+From [TPX] ``robotmodel/pendulum.json`` (docs/sources.md#tpx-pendulum): sled box 0.15^3 m at (0, 0,
+0.3) on a slider to the world along x with a linear position servo (command = sled x [m], within +-1
+m, gain 15 1/s); bar box 0.07 x 0.1 x 0.6 m at the origin hinged to the sled at z 0.3 about y; "top"
+box 0.15^3 m at z -0.3 fixed to the bar (the pole hangs down at start); density 1000 kg/m^3; dt 0.01
+s, 20 solver iterations, warm start 0; the builder's physical softness (joints 100 Hz, contacts 25
+Hz, independent of dt). Camera ``front_camera`` at (0, 2, 0.3) looking along -y (the JSON's
+quaternion turns the original's x-looking camera by 90 deg about z), 288 x 96 px (thesis Fig. 7.4),
+sensor 0.036 x 0.012 m, focal length 0.018 m; a textured backdrop plane at y = -1. The JSON gives no
+force limit for the sled servo (unbounded here by default) and textures from
 photographs we do not have: the textures here are procedural (deterministic stripes and
 checkers), which keeps rendering and its gradients meaningful.
 """

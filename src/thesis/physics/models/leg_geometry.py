@@ -37,7 +37,7 @@ R_MIN = 0.100
 #: Maximal hip-foot distance of a hind leg [m] (see :func:`oncilla_hind_geometry`).
 R_MAX_HIND = 0.182
 #: Knee motor range of a hind leg over a fore leg's: 2200 / 1850 encoder counts
-#: (ONCILLA.md HW, ``HWOncillaBackend.h``).
+#: (liboncilla-hw ``HWOncillaBackend.h``, docs/sources.md#oncilla-hind-legs).
 KNEE_RANGE_HIND_RATIO = 2200.0 / 1850.0
 
 
@@ -103,16 +103,16 @@ def knee_angle_for_reach(femur: float, tibia: float, foot: float, r: float) -> f
 
 def oncilla_geometry() -> LegGeometry:
     """The default Oncilla leg. No public source gives the Oncilla's segment lengths or
-    joint ranges (FACTS §5), so they are chosen from what the thesis states:
+    joint ranges (docs/sources.md#oncilla-legs), so they are chosen from what the thesis states:
 
-    * Reach R_MAX = 167 mm: Tab. 4.1 bounds the step length by "the maximal step length
-      at the height x0, such that the points A and B ... never go out of the reachable
-      region", and Fig. 4.9 says most particles lie on that edge, "the end of the robot's
-      range of motion". The (a, x0) pairs of the optimised particles in Tab. 4.2–4.4 all
-      satisfy a² + x0² = (167 mm)² to within 0.1 mm, i.e. a_max(x0) = sqrt(R² - x0²):
-      A = (y0 + a, x0) lies on a reach circle of radius 167 mm (a is the semi-axis; the
-      stride is 2a, §3.3.1.3 "the major axis 2a"). The circle is also consistent with the
-      ~0.15 m leg of the Cheetah-cub predecessor (FACTS §5) scaled to the larger Oncilla.
+    * Reach R_MAX = 167 mm: Tab. 4.1 bounds the step length by "the maximal step length at
+      the height x0, such that the points A and B ... never go out of the reachable region",
+      and Fig. 4.9 says most particles lie on that edge, "the end of the robot's range of
+      motion". The (a, x0) pairs of the optimised particles in Tab. 4.2–4.4 all satisfy a² +
+      x0² = (167 mm)² to within 0.1 mm, i.e. a_max(x0) = sqrt(R² - x0²): A = (y0 + a, x0)
+      lies on a reach circle of radius 167 mm (a is the semi-axis; the stride is 2a,
+      §3.3.1.3 "the major axis 2a"). The circle is also consistent with the ~0.15 m leg of
+      the Cheetah-cub predecessor (Spröwitz et al. 2013) scaled to the larger Oncilla.
     * Reach R_MIN = 100 mm (knee flexion stop): small enough that the swing heights found
       for the half ellipse (b ≤ 26 mm at x0 ≈ 138 mm, Tab. 3.1a) are reachable, and
       large enough that the tallest splines of Tab. 4.1 (control points 70 mm, apex
@@ -142,7 +142,8 @@ def oncilla_geometry() -> LegGeometry:
 def oncilla_hind_geometry() -> LegGeometry:
     """The Oncilla's hind leg: longer, with more knee range than the fore leg.
 
-    Sources and choices (ONCILLA.md; declared in ``departures/ch3.py``, ``ch3.oncilla_model``):
+    Sources and choices (docs/sources.md#oncilla-hind-legs; declared in ``departures/ch3.py``,
+    ``ch3.oncilla_model``):
 
     * **Longer reach, R_MAX_HIND = 182 mm.** The thesis's optimised particles (Tab.
       4.2-4.4) all lie on the fore legs' 167 mm reach circle (a² + x0² = 166.8-166.9²
@@ -154,11 +155,12 @@ def oncilla_hind_geometry() -> LegGeometry:
       the extension stop sits at the same inner knee angle (≈145°). No source gives the
       hind segments' lengths; uniform scaling is the choice.
     * **More knee range, x 2200 / 1850.** The robot's backend gives the hind knee motors
-      2200 encoder counts of range against 1850 for the fore ones (ONCILLA.md HW, marked
-      "todo CHECK" there). Read as proportional to the knee angle (an assumption: the
-      counts are the motor's, the knee is cable-driven), the hind knee's range is the
-      fore range x 1.19; the extra range is put on the flexion side (the extension stop
-      already gives the reach above), so the hind leg folds to ≈90 mm from the hip.
+      2200 encoder counts of range against 1850 for the fore ones (liboncilla-hw
+      ``HWOncillaBackend.h``, marked "todo CHECK" there). Read as proportional to the knee
+      angle (an assumption: the counts are the motor's, the knee is cable-driven), the hind
+      knee's range is the fore range x 1.19; the extra range is put on the flexion side (the
+      extension stop already gives the reach above), so the hind leg folds to ≈90 mm from
+      the hip.
     * Hip range and scapula range as the fore leg's (the backend gives one hip range,
       the thesis one scapula range).
     """

@@ -1,75 +1,72 @@
 """The Oncilla quadruped of thesis ch. 3 (§3.2.1) and §4.5 on the shared engine.
 
-What the thesis and FACTS §5 fix, and what had to be chosen (every number below cites
-its reason; nothing is fitted to a result of the thesis):
+What the thesis and public sources fix, and what had to be chosen (every number below cites
+its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, see Knee):
 
-* **Mass 5.1 kg** (FACTS §5; ONCILLA.md PAPER). Split: each leg 0.27 kg (femur 0.10, knee
-  drum 0.03, tibia 0.08, foot 0.06: light segments, the motors sit in the body, §3.2.1
-  "low-inertia actuator", "actuated through a cable mechanism by a second actuator in the
-  main body"), the rest (4.02 kg) in the trunk, which carries the 8 hip/knee motors, the
-  4 scapula servos, the Roboard and the battery (§4.5).
-* **Motors outboard** (ONCILLA.md SIM render, "the real motors sit outboard at the
-  body's sides"): of the trunk's 4.02 kg, one motor unit per leg (``MOTOR_UNIT`` 0.36 kg:
-  hip and knee motor with gearhead 0.15 kg each and the scapula servo 0.06 kg, a choice:
-  no source gives the parts' masses) sits at its leg's hip (x, y) at the trunk's
-  mid-height; the remaining 2.58 kg fills the trunk box. The trunk's inertia is the box's
-  plus the four units' parallel-axis terms (:func:`trunk_inertia`), about twice the roll
-  inertia of a solid 4.02-kg box.
-* **Trunk and hips** (ONCILLA.md SIM): the fore ab/adduction (L0, scapula) axes lie
-  +0.175 m forward of the trunk frame and +-0.069 m sideways; the hind ones are assumed to
-  mirror them (-0.175 m: the hind axes are not visible in the source). The legs hang
-  outboard of their L0 axes by ``LEG_OFFSET`` 0.031 m (the source shows an offset but its
-  value is unreadable; 0.031 m is the width of a motor unit between axis and leg, a
-  choice), a 0.20 m track. **Checked against the official simulation's render**
-  (ONCILLA.md SIM, the 600 x 404 screenshot): a homography fitted to 8 dots of the
-  floor's square tile lattice (residuals <= 1.2 px) puts 6 further dots within 5 px of
-  their lattice points, and the floor's right angle gives the camera a 43 deg field of
-  view (Webots' default 45 deg). Through it the three feet marked on the floor stand
-  0.59-0.62 lattice units apart sideways and 1.15-1.17 fore to hind: a track of 0.53
-  (+-0.03 for +-2 px) of the fore-hind foot spacing, 0.19-0.21 m with the feet 0.35-0.38
-  m apart fore to hind (the hips 0.35 m apart, the feet slightly beyond them in the
-  render). The render so agrees with the 0.20 m track within about 10 % and gives no
-  support to a wider one, although a wider track is the change that removed most falls
-  of random trots (ONCILLA.md). The marks under the feet are about 3 x 3 cm on the floor.
-  The scapula axis is modelled in the leg's plane, through the
-  hip point, not 0.031 m inboard of it: with the axis inboard, the engine's 30 Jacobi
-  sweeps per step did not hold the scapula servos (the standing robot's scapulae drifted
-  8-11 deg within 2 s; 80 sweeps held them to 1 deg), and the lateral foot motion per
-  degree of scapula differs by the cosine of the 0.031 / 0.14 m lever ratio only. The
-  trunk box is 0.40 x 0.14 x 0.07 m: its sides at the L0 axes, its ends 2.5 cm beyond the
-  hips, 7 cm tall as before (no source gives the shell). The hips sit 0.02 m below the
-  trunk's centre. The 0.35 m hip spacing is about twice the
-  longest stride of Tab. 3.1 (2a = 182 mm), so fore and hind feet never collide.
+* **Mass 5.1 kg** (Spröwitz et al. 2018, docs/sources.md#oncilla-mass). Split: each leg 0.27
+  kg (femur 0.10, knee drum 0.03, tibia 0.08, foot 0.06: light segments, the motors sit in
+  the body, §3.2.1 "low-inertia actuator", "actuated through a cable mechanism by a second
+  actuator in the main body"), the rest (4.02 kg) in the trunk, which carries the 8 hip/knee
+  motors, the 4 scapula servos, the Roboard and the battery (§4.5).
+* **Motors outboard** (the official simulation's render: the motors sit outboard at the
+  body's sides, docs/sources.md#oncilla-mass): of the trunk's 4.02 kg, one motor unit per
+  leg (``MOTOR_UNIT`` 0.36 kg: hip and knee motor with gearhead 0.15 kg each and the scapula
+  servo 0.06 kg, a choice: no source gives the parts' masses) sits at its leg's hip (x, y)
+  at the trunk's mid-height; the remaining 2.58 kg fills the trunk box. The trunk's inertia
+  is the box's plus the four units' parallel-axis terms (:func:`trunk_inertia`), about twice
+  the roll inertia of a solid 4.02-kg box.
+* **Trunk and hips** (the official AMARSi simulation, docs/sources.md#oncilla-hips): the
+  fore ab/adduction (L0, scapula) axes lie +0.175 m forward of the trunk frame and +-0.069 m
+  sideways; the hind ones are assumed to mirror them (-0.175 m: the hind axes are not
+  visible in the source). The legs hang outboard of their L0 axes by ``LEG_OFFSET`` 0.031 m
+  (the source shows an offset but its value is unreadable; 0.031 m is the width of a motor
+  unit between axis and leg, a choice), a 0.20 m track. **Checked against the official
+  simulation's render** (the 600 x 404 screenshot, docs/sources.md#oncilla-hips): a
+  homography fitted to 8 dots of the floor's square tile lattice (residuals <= 1.2 px) puts
+  6 further dots within 5 px of their lattice points, and the floor's right angle gives the
+  camera a 43 deg field of view (Webots' default 45 deg). Through it the three feet marked
+  on the floor stand 0.59-0.62 lattice units apart sideways and 1.15-1.17 fore to hind: a
+  track of 0.53 (+-0.03 for +-2 px) of the fore-hind foot spacing, 0.19-0.21 m with the feet
+  0.35-0.38 m apart fore to hind (the hips 0.35 m apart, the feet slightly beyond them in
+  the render). The render so agrees with the 0.20 m track within about 10 % and gives no
+  support to a wider one, although a wider track is the change that removes most falls of
+  random trots. The marks under the feet are about 3 x 3 cm on the floor. The scapula axis
+  is modelled in the leg's plane, through the hip point, not 0.031 m inboard of it: with the
+  axis inboard, the engine's 30 Jacobi sweeps per step did not hold the scapula servos (the
+  standing robot's scapulae drifted 8-11 deg within 2 s; 80 sweeps held them to 1 deg), and
+  the lateral foot motion per degree of scapula differs by the cosine of the 0.031 / 0.14 m
+  lever ratio only. The trunk box is 0.40 x 0.14 x 0.07 m: its sides at the L0 axes, its
+  ends 2.5 cm beyond the hips, 7 cm tall (no source gives the shell). The hips sit 0.02 m
+  below the trunk's centre. The 0.35 m hip spacing is about twice the longest stride of Tab.
+  3.1 (2a = 182 mm), so fore and hind feet never collide.
 * **Legs**: the three-segment pantograph of :mod:`thesis.gaits.leg` (foot segment kept
   parallel to the femur). Fore legs femur 65 mm, tibia 70 mm, foot 40 mm with the joint
-  ranges of :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65]
-  deg, knee from the 100-167 mm reach, scapula -5..+10 deg = "about 5 deg of adduction
-  and 10 deg of abduction", §3.3.2.5). Hind legs longer, with more knee range
-  (:func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`: the fore segments
-  x 1.09 for a 182 mm reach, the hind foot of Tab. 4.2-4.4's optima reaching 181.9 mm
-  from the hip; the knee range x 2200 / 1850, the hind/fore knee motor counts of
-  ONCILLA.md HW). **Hind legs, decided again from the sources: kept.** The reason is
-  the thesis's own optima, not the motor counts: Tab. 4.2-4.4's hind stance targets
-  need about 177-182 mm of reach from the hip, beyond the fore legs' 167 mm, while
-  §3.3.1 says the optimisation allowed only foot paths in the reachable area, so the
-  real hind legs reached them. The counts are weak evidence: ``HW_RANGE_L1_FORE`` /
-  ``_HIND`` (1850 / 2200) are marked "TODO: CHECK" in liboncilla-hw and applied to hip
-  and knee alike, and a public controller's configuration (ONCILLA.md HW) gives the
-  knee 1350 counts on three legs and 2200 on one. Only the knee range's size rests on
-  them. Cheetah-cub, the predecessor, has fore and hind legs of different segment
-  proportions (Spröwitz et al. 2013), which agrees with the kept choice but gives no
-  Oncilla number. No public source readable here gives the Oncilla's segment lengths,
-  the legs' lateral offset, the feet's size or any spring rate. The Frontiers article
-  and its supplementary material were found only as their openings. The drives'
-  configured gains exist only in the motor boards' raw units (liboncilla-hw
-  ``config/MotorSection.h``: P 400, I 20, D 200, max torque 1100), which no source
-  converts to N m/rad. Every leg stands with its toe ``BUILD_DEPTH`` below its hip, so the
-  trunk is level at build whatever the legs' lengths. The segment masses are the same
-  for all legs (a choice: no source gives them). Bodies per leg: femur, knee drum,
-  tibia, foot. The pantograph's parallel
-  link (hip -> upper end of the foot segment, length = tibia) is massless and modelled
-  as a stiff spring (``link_stiffness``) between the femur's hip point and the foot
-  segment, which closes the parallelogram without a loop joint.
+  ranges of :func:`thesis.physics.models.leg_geometry.oncilla_geometry` (hip [-30, 65] deg,
+  knee from the 100-167 mm reach, scapula -5..+10 deg = "about 5 deg of adduction and 10 deg
+  of abduction", §3.3.2.5). Hind legs longer, with more knee range
+  (:func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`: the fore segments x
+  1.09 for a 182 mm reach, the hind foot of Tab. 4.2-4.4's optima reaching 181.9 mm from the
+  hip; the knee range x 2200 / 1850, the hind/fore knee motor counts of liboncilla-hw,
+  docs/sources.md#oncilla-hind-legs). **Why longer hind legs:** the thesis's own optima, not
+  the motor counts: Tab. 4.2-4.4's hind stance targets need about 177-182 mm of reach from
+  the hip, beyond the fore legs' 167 mm, while §3.3.1 says the optimisation allowed only
+  foot paths in the reachable area, so the real hind legs reached them. The counts are weak
+  evidence: ``HW_RANGE_L1_FORE`` / ``_HIND`` (1850 / 2200) are marked "TODO: CHECK" in
+  liboncilla-hw and applied to hip and knee alike, and a public controller's configuration
+  (``OncillaServer/initial.config``) gives the knee 1350 counts on three legs and 2200 on
+  one. Only the knee range's size rests on them. Cheetah-cub, the predecessor, has fore and
+  hind legs of different segment proportions (Spröwitz et al. 2013), which agrees with the
+  kept choice but gives no Oncilla number. No public source readable here gives the
+  Oncilla's segment lengths, the legs' lateral offset, the feet's size or any spring rate.
+  The Frontiers article and its supplementary material were found only as their openings.
+  The drives' configured gains exist only in the motor boards' raw units (liboncilla-hw
+  ``config/MotorSection.h``: P 400, I 20, D 200, max torque 1100), which no source converts
+  to N m/rad. Every leg stands with its toe ``BUILD_DEPTH`` below its hip, so the trunk is
+  level at build whatever the legs' lengths. The segment masses are the same for all legs (a
+  choice: no source gives them). Bodies per leg: femur, knee drum, tibia, foot. The
+  pantograph's parallel link (hip -> upper end of the foot segment, length = tibia) is
+  massless and modelled as a stiff spring (``link_stiffness``) between the femur's hip point
+  and the foot segment, which closes the parallelogram without a loop joint.
 * **Scapula and hip**: one universal joint trunk -> femur at the hip point; its first
   axis (body x, sign per side so that + = abduction) is the scapula servo, its second
   (about -y, so + = femur forward, the hip convention of :mod:`thesis.gaits.leg`) the
@@ -85,89 +82,84 @@ its reason; nothing is fitted to a result of the thesis):
   compression of §3.3.1.2 that makes the robot slower than the theoretical speed.
   The spring rate (10 N m/rad, preload 0.02 rad) is chosen so that standing on four
   legs folds the knees by about 0.05 rad and lowers the hips by about 1 cm (7 % of the
-  hip height), more in the two-leg stance of a trot; no public value exists (FACTS §5
-  "Not found: spring stiffness"). Chapters 3, 4 and 6 do not run this default: they run
+  hip height), more in the two-leg stance of a trot; no public value exists
+  (docs/sources.md#oncilla-knee-spring). Chapters 3, 4 and 6 do not run this default: they run
   the value :mod:`thesis.modelcheck.calibration` fits to V1 alone
   (``ch3/ch4/ch6.model.knee_spring``; departure ``ch3.knee_spring_fitted``). The drum
   carries the knee motor's rotor inertia reflected through the cable (an invisible
   0.2 m, 30 g box: 2e-4 kg m^2, an assumption); without it the 2e-6 kg m^2 drum made
   the engine's block-Jacobi solver (thesis.physics.solver) diverge within one step and
   the legs fold.
-* **Solver**: 30 block-Jacobi sweeps per 2.5 ms step with relaxation 0.3. The engine
-  default relaxation 1.0 diverged on these chains of light bodies hanging from a 4 kg
-  trunk. With 15 sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped
-  6 cm; with 30 sweeps at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk
-  thrown tens of metres up); 30 sweeps at 0.3 stand still and kept those gaits
-  physical (as did halving dt, at twice the cost). Those were this function's defaults
-  (30 sweeps, ``sweep_order="jacobi"``, relaxation 0.3), which the smoke profile keeps.
-  **The chapters' solver** (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first``
-  order at relaxation 1.0, the contact rows at 0.3 (:mod:`thesis.physics.solver`, Sweep
-  order, Contact relaxation). In the Jacobi
-  order the servo and limit rows of the scapula/hip joint converge slowly: at 120 sweeps
-  the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline walked
-  0.31 m/s at 1.5 Hz against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
+* **Solver**: 30 block-Jacobi sweeps per 2.5 ms step with relaxation 0.3. The engine default
+  relaxation 1.0 diverged on these chains of light bodies hanging from a 4 kg trunk. With 15
+  sweeps at 0.5 the standing robot was quiet for 1.7 s and then jumped 6 cm; with 30 sweeps
+  at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk thrown tens of metres
+  up); 30 sweeps at 0.3 stand still and kept those gaits physical (as did halving dt, at
+  twice the cost). These are this function's defaults (30 sweeps, ``sweep_order="jacobi"``,
+  relaxation 0.3), which the smoke profile uses. **The chapters' solver**
+  (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first`` order at relaxation 1.0, the
+  contact rows at 0.3 (:mod:`thesis.physics.solver`, Sweep order, Contact relaxation). In
+  the Jacobi order the servo and limit rows of the scapula/hip joint converge slowly: at 120
+  sweeps the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline
+  walked 0.31 m/s at 1.5 Hz against 0.43 / 0.48 m/s at 480 / 960 sweeps, which hold the
   scapulae within 3 / 1 deg (the half ellipse moved by at most 4 %). Blocks first at
-  relaxation 1.0, 120 sweeps give the 960-sweep speeds and hold the scapulae within
-  1 deg; a chapter's job costs 1.3-2.2x the CPU of the Jacobi order at the same sweeps;
-  relaxation 0.5 in the Jacobi order diverges. The contact rows at relaxation 1.0
-  explode on ch4's pebble field, where a toe touches the floor and up to two pebbles at
-  once: of the 200 first-generation evaluations of its five seeds' two swarms, 200
-  exploded at 1.0, 1 at 0.5 and none at 0.3. ``model/convergence`` found no published
-  gait beyond tolerance under twice the sweeps or half the step with the contact rows at
-  1.0 (knee spring 1.807) and at 0.3 (knee spring 5.105; inconclusive on the gaits that
-  fall in part of their starts); at the knee spring fitted now (2.0) it finds Tab. 3.1b
-  at 1.5 Hz not converged at half the step (its speed moves by more than 10 %), while
-  twice the sweeps stays inconclusive. The one alternative the chapters' solver rule
-  named (Jacobi at relaxation 0.3, 240 sweeps, contacts at 0.3) refits to the same knee
-  spring (2.0) and is not converged either: Tab. 4.2's flat optimum at 2.6 Hz moves by
-  more than 10 % under twice its sweeps (480). By that rule the chapters keep blocks
-  first. **Warm start** (``warm_start``): the engine's
-  0.85; 1.0 helps the Jacobi order (120 sweeps then give about 480's speeds) but was not
-  needed.
-* **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
-  position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
-  motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
-  ``drive_damping`` 0.4 N m s/rad, bounded by 4 N m and 12 rad/s (a 2 Hz trot needs
-  about 2 pi 2 0.5 = 6.3 rad/s at the hip). A load on the leg deflects the motor angle by
-  load / stiffness, which is what the motor encoders of ch6 read ("the rotary encoders in
-  the motors", §6.1). liboncilla-hw configures stiffness and damping per motor but its
-  values are not public (FACTS §5), so they are chosen: the drive reaches its 4 N m
-  bound at 0.2 rad (11.5 deg) of error, and stiffness / damping = 50 1/s keeps the
+  relaxation 1.0, 120 sweeps give the 960-sweep speeds and hold the scapulae within 1 deg; a
+  chapter's job costs 1.3-2.2x the CPU of the Jacobi order at the same sweeps; relaxation
+  0.5 in the Jacobi order diverges. The contact rows at relaxation 1.0 explode on ch4's
+  pebble field, where a toe touches the floor and up to two pebbles at once: of the 200
+  first-generation evaluations of its five seeds' two swarms, 200 exploded at 1.0, 1 at 0.5
+  and none at 0.3. At the fitted knee spring (2.0) ``model/convergence`` finds Tab. 3.1b at
+  1.5 Hz not converged at half the step (its speed moves by more than 10 %), while twice the
+  sweeps stays inconclusive. The one alternative the chapters' solver rule named (Jacobi at
+  relaxation 0.3, 240 sweeps, contacts at 0.3) refits to the same knee spring (2.0) and is
+  not converged either: Tab. 4.2's flat optimum at 2.6 Hz moves by more than 10 % under
+  twice its sweeps (480). By that rule the chapters keep blocks first. **Warm start**
+  (``warm_start``): the engine's 0.85; 1.0 helps the Jacobi order (120 sweeps then give
+  about 480's speeds) but was not needed.
+* **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
+  motors are brushless motors with position drivers: compliant drives
+  (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
+  ``drive_stiffness`` 20 N m/rad and damping ``drive_damping`` 0.4 N m s/rad, bounded by 4 N
+  m and 12 rad/s (a 2 Hz trot needs about 2 pi 2 0.5 = 6.3 rad/s at the hip). A load on the
+  leg deflects the motor angle by load / stiffness, which is what the motor encoders of ch6
+  read ("the rotary encoders in the motors", §6.1). liboncilla-hw configures stiffness and
+  damping per motor but its values are not public, so they are chosen: the drive reaches its
+  4 N m bound at 0.2 rad (11.5 deg) of error, and stiffness / damping = 50 1/s keeps the
   time constant of the stiff position servos it replaces (gain 50 1/s, like the engine's
-  other robots). The knee drive turns the knee drum (the motor's side of the cable).
-  The scapula (L0) servo is the official simulation's (ONCILLA.md SIM): a stiff
-  actuated joint, P gain 10 1/s, 10 N m, 10 rad/s, no spring, no damping (a hard
-  position servo, FACTS §2.7). Commands are the *thesis* joint angles of
+  other robots). The knee drive turns the knee drum (the motor's side of the cable). The
+  scapula (L0) servo is the official simulation's (docs/sources.md#oncilla-scapula-servo): a
+  stiff actuated joint, P gain 10 1/s, 10 N m, 10 rad/s, no spring, no damping (a hard
+  position servo, docs/sources.md#tpx-servo). Commands are the *thesis* joint angles of
   :mod:`thesis.gaits.leg` (hip from the downward vertical, inner knee angle, scapula);
-  :func:`commands_to_action` subtracts the build pose. New commands every 10 ms
-  (§3.2.2), held in between; the physics step ``dt`` is 2.5 ms (four steps per command):
-  at 5 ms some gaits (fast leg swings from the settle pose) made the engine diverge to
-  NaN within 0.1 s, at 2.5 ms the same gaits walk.
+  :func:`commands_to_action` subtracts the build pose. New commands every 10 ms (§3.2.2),
+  held in between; the physics step ``dt`` is 2.5 ms (four steps per command): at 5 ms some
+  gaits (fast leg swings from the settle pose) made the engine diverge to NaN within 0.1 s,
+  at 2.5 ms the same gaits walk.
 * **Compliance of the constraints** (physical, independent of dt;
   :mod:`thesis.physics.builder`): every joint and joint-limit row is a critically damped
   spring of ``joint_hz`` 400 Hz and every floor contact one of ``contact_hz`` 100 Hz,
   relative to the row's effective mass (a toe under the 5.1-kg robot: contact stiffness
-  about m_eff (2 pi 100 Hz)^2). These are the values the engine's former per-step rule
-  (1 / dt, 0.25 / dt) gave at the 2.5-ms step, kept so that chapters 3 and 4 do not move;
-  halving dt or doubling the sweeps now simulates the same robot (the convergence table
-  of ``thesis validate oncilla``). No source gives the real robot's values. The contact's
+  about m_eff (2 pi 100 Hz)^2). They equal 1 / dt and 0.25 / dt at the 2.5-ms step
+  (docs/sources.md#oncilla-compliance); being physical, they make halving dt or doubling
+  the sweeps simulate the same robot (the convergence table of ``thesis validate
+  oncilla``). No source gives the real robot's values. The contact's
   100 Hz on a toe row's effective mass (at most the 60-g foot segment: at most 2.4e4
   N/m) is of the order of our estimate for a Hertz contact of a 10-mm rubber sphere
   under half the robot's weight (about 3e4 N/m with a Young's modulus of a few MPa, an
-  assumed generic rubber value: no source gives the toes' material); nothing was changed
-  or fitted on that estimate. With the Jacobi order the table found the published gaits
+  assumed generic rubber value: no source gives the toes' material); nothing is fitted to
+  that estimate. With the Jacobi order the table found the published gaits
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
   ``stance_cable_taut`` of the validation) not converged; for the chapters' solver see
   Solver above.
-* **Not revised** (the source gives them, the model does not have them yet): the foot
-  plates (ONCILLA.md SIM, visual only, no size; here one toe sphere per foot). A plate
+* **No foot plates**: the official simulation's render shows flat foot plates (visual
+  only, no size; docs/sources.md#oncilla-feet); here one toe sphere per foot. A plate
   50 mm long pointing forward from each toe (a second toe sphere) made the published
   gaits fall more (23 -> 34 of the validation's 85 runs, Jacobi order), so none is added.
-* **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction
-  0.8 (FACTS §6, rubber on a dry hard surface). Four 20 mm bumper spheres at the trunk's
-  lower corners catch a fall. The floor plane z = 0 carries the material ``"floor"``
-  (``friction``, ``restitution``), which every contact sphere uses: a terrain changes it
-  with :func:`thesis.physics.terrain.set_material` and tilts gravity with
+* **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction 0.8
+  (rubber on a dry hard surface, docs/sources.md#oncilla-feet). Four 20 mm bumper spheres at
+  the trunk's lower corners catch a fall. The floor plane z = 0 carries the material
+  ``"floor"`` (``friction``, ``restitution``), which every contact sphere uses: a terrain
+  changes it with :func:`thesis.physics.terrain.set_material` and tilts gravity with
   :func:`thesis.physics.terrain.incline`, both without recompiling.
 * **Camera** (§3.2.1): the Wii remote IR camera, 1024 x 768 pixels, looking forward from
   the front of the trunk; a 33 x 25 deg field of view (the commonly quoted horizontal
@@ -195,13 +187,14 @@ import numpy as np
 from thesis.physics.models import leg_geometry as L
 from thesis.physics.builder import Builder
 
-#: Total mass [kg] (FACTS §5).
+#: Total mass [kg] (docs/sources.md#oncilla-mass).
 MASS = 5.1
 #: Leg segment masses [kg]: femur, knee drum, tibia, foot.
 LEG_MASSES = (0.10, 0.03, 0.08, 0.06)
 #: Trunk size [m] (length, width, height).
 TRUNK = (0.40, 0.14, 0.07)
-#: Scapula (L0) axis positions relative to the trunk centre [m] (LEGS order; ONCILLA.md).
+#: Scapula (L0) axis positions relative to the trunk centre [m] (LEGS order;
+#: docs/sources.md#oncilla-hips).
 SCAPULAE = ((0.175, 0.069, -0.02), (0.175, -0.069, -0.02), (-0.175, 0.069, -0.02),
             (-0.175, -0.069, -0.02))
 #: Sideways offset of each leg's plane outboard of its scapula axis [m] (a choice).
@@ -283,7 +276,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         joint_hz [Hz]: softness of every joint and joint-limit row; contact_hz [Hz]: of
             the floor contacts (critically damped; physical, independent of dt).
         warm_start: fraction of the last step's impulses the solver starts from (the
-            engine's 0.85, FACTS §2.4, by default; see the module docstring's Solver).
+            engine's 0.85, docs/sources.md#tpx-step, by default; see the module docstring's Solver).
         relaxation, sweep_order, contact_relaxation: the solver's relaxation factor, the
             order of its updates within a sweep and the contact rows' own relaxation
             factor (None: ``relaxation``) (:mod:`thesis.physics.solver`; module

@@ -7,9 +7,9 @@ Underneath the feet there is an adhesive skin attached with asymmetrical frictio
 potentiometer on each of the 8 joints, a tactile (force) sensor on each paw, an IMU and
 an overhead camera giving position and velocity. Nothing else: no public source gives
 Puppy II's mass, dimensions, segment lengths, spring rates or servo parameters
-(FACTS §6, "Not found"). Every number below is therefore a choice, made from the
+(docs/sources.md#puppy). Every number below is therefore a choice, made from the
 robot's class (a small, dog-sized walking robot of the Zurich AI Lab's "Puppy" line
-built from hobby servos, FACTS §6) and from what a simulation of it needs; none was
+built from hobby servos) and from what a simulation of it needs; none was
 fitted to a result of the thesis.
 
 * **Mass 1.5 kg**: trunk 1.1 kg (a 0.22 x 0.11 x 0.05 m box carrying four hobby servos
@@ -64,9 +64,8 @@ fitted to a result of the thesis.
   at 1.25-1.52 Hz, the random gaits) leaves their intervals wider than 10 %.
 * **Compliance** (physical, independent of dt; :mod:`thesis.physics.builder`): joint and
   limit rows 200 Hz, contacts 50 Hz, critically damped (``JOINT_HZ``, ``CONTACT_HZ``
-  below): the values the engine's former per-step rule (1 / dt, 0.25 / dt) gave at the
-  5-ms step, kept so that chapter 5's recordings do not move; a smaller step now refines
-  the same robot.
+  below): 1 / dt and 0.25 / dt at the 5-ms step (docs/sources.md#puppy-body); being
+  physical, a smaller step refines the same robot.
 
 Sensors the chapter records (§5.3.1) map onto the engine's: hip and knee
 ``joint_angle`` (potentiometers), paw ``contact_force``, trunk ``imu_acc`` and

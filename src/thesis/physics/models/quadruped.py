@@ -3,18 +3,17 @@
 Thesis: 8 actuated DoF (a hip and a knee per leg), the torso collides with the ground
 through 4 spheres inside the cuboid, 17 rigid bodies (Tab. 7.1), 28.7 kg with 75 % in the
 torso, servos limited to 4 N m, 10 s simulated in 1000 steps (§7.3.3) -> dt = 0.01 s.
-Geometry and the rest from [TPX] ``robotmodel/demi_predator_ground.json`` (FACTS §2.10):
-spine box 0.7 x 0.3 x 0.1 m at z 0.4 (21 kg); 4 bumper spheres r 0.05 at (+-0.3, +-0.1,
-0.4) fixed to the spine; per leg at (+-0.3, +-0.2): femur box 0.05 x 0.05 x 0.2 at z 0.3,
-tibia box 0.05 x 0.05 x 0.15 at z 0.125, foot sphere r 0.05 at z 0.05 fixed to the tibia;
-hips at z 0.4 and knees at z 0.2, axes y; density 1000 kg/m^3; servos gain 50 1/s,
-1440 deg/s, commands within +-45 deg, no dead band; servo order knees 1-4 then hips 1-4
-(motor ids 0-7); ground mu 0.5, slop 0.01 m, restitution 0.01; warm start 0.85.
-Solver iterations: 20, as the JSON's dt = 0.01 s variant (``demi_predator.json``).
-Compliance: the builder's physical defaults, joints and limits 100 Hz, contacts 25 Hz,
-critically damped (:mod:`thesis.physics.builder`; independent of dt).
-Joints are parent -> child (spine -> femur -> tibia), so a positive hip angle rotates the
-femur about +y relative to the spine.
+Geometry and the rest from [TPX] ``robotmodel/demi_predator_ground.json``
+(docs/sources.md#tpx-quadruped): spine box 0.7 x 0.3 x 0.1 m at z 0.4 (21 kg); 4 bumper spheres r
+0.05 at (+-0.3, +-0.1, 0.4) fixed to the spine; per leg at (+-0.3, +-0.2): femur box 0.05 x 0.05 x
+0.2 at z 0.3, tibia box 0.05 x 0.05 x 0.15 at z 0.125, foot sphere r 0.05 at z 0.05 fixed to the
+tibia; hips at z 0.4 and knees at z 0.2, axes y; density 1000 kg/m^3; servos gain 50 1/s, 1440
+deg/s, commands within +-45 deg, no dead band; servo order knees 1-4 then hips 1-4 (motor ids 0-7);
+ground mu 0.5, slop 0.01 m, restitution 0.01; warm start 0.85. Solver iterations: 20, as the JSON's
+dt = 0.01 s variant (``demi_predator.json``). Compliance: the builder's physical defaults, joints
+and limits 100 Hz, contacts 25 Hz, critically damped (:mod:`thesis.physics.builder`; independent of
+dt). Joints are parent -> child (spine -> femur -> tibia), so a positive hip angle rotates the femur
+about +y relative to the spine.
 """
 
 from __future__ import annotations

@@ -309,7 +309,7 @@ def protocols_table(results) -> Table:
 
 
 def setup_table(results) -> Table:
-    """The invented model and terrain parameters the results rest on (FACTS §6)."""
+    """The invented model and terrain parameters the results rest on (docs/sources.md#puppy)."""
     ds = next((results[k] for k in ("ch5/table5_3", "ch5/table5_5", "ch5/table5_4",
                                      "ch5/table5_6") if k in results), None)
     rows = []
@@ -324,7 +324,8 @@ def setup_table(results) -> Table:
                  thesis_ref="§5.3.1", columns=["what", "value"],
                  rows=rows or [[NOT_RUN, NOT_RUN]],
                  note="No public source gives Puppy II's dimensions, its terrains' materials "
-                      "or the dataset (FACTS §6): the robot (thesis.physics.models.puppy) and "
+                      "or the dataset (docs/sources.md#puppy): the robot "
+                      "(thesis.physics.models.puppy) and "
                       "every value here are choices, fixed before any classifier ran.")
 
 
