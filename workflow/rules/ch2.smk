@@ -53,43 +53,71 @@ rule ch2_cluttered_mnist:
         "{THESIS} run ch2/cluttered_mnist --profile {PROFILE} --output {output.data} > {log} 2>&1"
 
 
-for _model in CH2_MODELS:
+rule ch2_table2_2_ffn_spn:
+    message:
+        "Training ffn_spn for every d and transform of Tab. 2.2, seed {wildcards.seed}, "
+        "profile {PROFILE}"
+    input:
+        data=rules.ch2_cluttered_mnist.output.data,
+    output:
+        nc=ch2_part("ffn_spn", "{seed}"),
+    wildcard_constraints:
+        seed=r"\d+",
+    params:
+        cfg=ch2_part_cfg("ffn_spn"),
+        code=code_of("ch2"),
+        key="ch2/table2_2_ffn_spn",
+    log:
+        log_path("ch2", "table2_2_ffn_spn_seed{seed}"),
+    benchmark:
+        bench_path("ch2", "table2_2_ffn_spn_seed{seed}")
+    threads: 1
+    resources:
+        **res(
+            "ch2",
+            "table2_2_ffn_spn_seed{seed}",
+            mem_mb=training_memory_mb(config["ch2"]["data"]),
+            runtime=600,
+            gpu=True,
+        ),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
+        "--input data={input.data} --output {output.nc} > {log} 2>&1"
 
-    rule:
-        name:
-            f"ch2_table2_2_{_model}"
-        message:
-            f"Training {_model} for every d and transform of Tab. 2.2, seed {{wildcards.seed}}, "
-            f"profile {PROFILE}"
-        input:
-            data=rules.ch2_cluttered_mnist.output.data,
-        output:
-            nc=ch2_part(_model, "{seed}"),
-        wildcard_constraints:
-            seed=r"\d+",
-        params:
-            cfg=ch2_part_cfg(_model),
-            code=code_of("ch2"),
-            key=f"ch2/table2_2_{_model}",
-        log:
-            log_path("ch2", f"table2_2_{_model}_seed{{seed}}"),
-        benchmark:
-            bench_path("ch2", f"table2_2_{_model}_seed{{seed}}")
-        # RNN-SPN's jobs are the longer ones (default profile: ~1.07x): started first, the
-        # jobs end together
-        priority: 1 if _model == "rnn_spn" else 0
-        threads: 1
-        resources:
-            **res(
-                "ch2",
-                f"table2_2_{_model}_seed{{seed}}",
-                mem_mb=training_memory_mb(config["ch2"]["data"]),
-                runtime=600,
-                gpu=True,
-            ),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
-            "--input data={input.data} --output {output.nc} > {log} 2>&1"
+
+rule ch2_table2_2_rnn_spn:
+    message:
+        "Training rnn_spn for every d and transform of Tab. 2.2, seed {wildcards.seed}, "
+        "profile {PROFILE}"
+    input:
+        data=rules.ch2_cluttered_mnist.output.data,
+    output:
+        nc=ch2_part("rnn_spn", "{seed}"),
+    wildcard_constraints:
+        seed=r"\d+",
+    params:
+        cfg=ch2_part_cfg("rnn_spn"),
+        code=code_of("ch2"),
+        key="ch2/table2_2_rnn_spn",
+    log:
+        log_path("ch2", "table2_2_rnn_spn_seed{seed}"),
+    benchmark:
+        bench_path("ch2", "table2_2_rnn_spn_seed{seed}")
+    # RNN-SPN's jobs are the longer ones (benchmarks/<profile>/ch2/): started first, the
+    # jobs end together
+    priority: 1
+    threads: 1
+    resources:
+        **res(
+            "ch2",
+            "table2_2_rnn_spn_seed{seed}",
+            mem_mb=training_memory_mb(config["ch2"]["data"]),
+            runtime=600,
+            gpu=True,
+        ),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
+        "--input data={input.data} --output {output.nc} > {log} 2>&1"
 
 
 rule ch2_table2_2:
