@@ -11,7 +11,8 @@
 # apart, spread over a cluster's nodes (profiles/slurm), and adding a seed reruns only that
 # seed (a part's params leave `ch2.seeds` out; its seed is in its path). The default
 # profile's updates per model are chosen so that its FFN-SPN and RNN-SPN jobs take about the
-# same time (the budget arithmetic is in config/default.yaml's ch2 comment), three per core.
+# same time, three per core (per-update cost: ch2_train_step below; the jobs' own times:
+# benchmarks/<profile>/ch2/, reports/<profile>/measurements.md).
 
 from thesis.chirpz.data import training_memory_mb
 from thesis.chirpz.experiments import MODELS as CH2_MODELS
@@ -162,9 +163,61 @@ rule ch2_chirpz_scaling:
         "{THESIS} run ch2/chirpz_scaling --profile {PROFILE} --output {output.nc} > {log} 2>&1"
 
 
+# The measurements behind the ch2 sizes of config/<profile>.yaml (outside the chapter
+# target and `make all`: they time training, minutes to hours): the width pilot (error
+# against CPU time at several widths and run lengths) and the cost of one training step
+# per model, transform and d. The report renders both when present (thesis.report.pilots).
+
+
+rule ch2_width_pilot:
+    message:
+        "Width pilot (§2.5): per-digit error against CPU time of one Tab. 2.2 cell at "
+        "several widths and run lengths (ch2.width_pilot), profile {PROFILE}"
+    output:
+        nc=result("ch2", "width_pilot"),
+    params:
+        cfg=cfg_slice("ch2/width_pilot"),
+        code=code_of("ch2"),
+    log:
+        log_path("ch2", "width_pilot"),
+    benchmark:
+        bench_path("ch2", "width_pilot")
+    threads: 1
+    resources:
+        **res("ch2", "width_pilot", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} bench chirpz-widths --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+rule ch2_train_step:
+    message:
+        "Training-step bench (§2.5): forward, backward and update of every Tab. 2.2 "
+        "cell (ch2.train_bench), profile {PROFILE}"
+    output:
+        nc=result("ch2", "train_step"),
+    params:
+        cfg=cfg_slice("ch2/train_step"),
+        code=code_of("ch2"),
+    log:
+        log_path("ch2", "train_step"),
+    benchmark:
+        bench_path("ch2", "train_step")
+    threads: 1
+    resources:
+        **res("ch2", "train_step", mem_mb=6000, runtime=30, gpu=True),
+    shell:
+        "{THESIS} bench chirpz-train --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+rule ch2_pilot:
+    input:
+        rules.ch2_width_pilot.output.nc,
+        rules.ch2_train_step.output.nc,
+
+
 CHAPTER_TARGETS["ch2"] = [
     rules.ch2_table2_2.output.nc,
     rules.ch2_chirpz_scaling.output.nc,
 ]
 FIGURES["ch2"] = ["training_curves", "chirpz_scaling"]
-TABLES["ch2"] = ["table2_2"]
+TABLES["ch2"] = ["table2_2", "width_pilot", "train_step"]
