@@ -48,7 +48,7 @@ rule ch2_cluttered_mnist:
     threads: 1
     resources:
         # upper estimate (profiles never measured here, e.g. paper): one block of float32
-        # canvases at a time; 60 000 / 10 000 / 10 000 sequences: 550 MB peak, 26 s of CPU
+        # canvases at a time (what a run took: benchmarks/<profile>/ch2/cluttered_mnist.tsv)
         **res("ch2", "cluttered_mnist", mem_mb=2000, runtime=15),
     shell:
         "{THESIS} run ch2/cluttered_mnist --profile {PROFILE} --output {output.data} > {log} 2>&1"

