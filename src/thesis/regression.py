@@ -89,6 +89,7 @@ import numpy as np
 import xarray as xr
 
 from thesis.cpupins import cpu_flags, is_x86_64
+from thesis.registry import MEASUREMENTS
 
 DEFAULT_RTOL = 1e-3
 DEFAULT_ATOL = 1e-6
@@ -634,7 +635,8 @@ def main(argv: list[str] | None = None) -> int:
         for line in add_twin_runs(root, runs, forget):
             print(line)
         return 0
-    results = store.load_results(profile)
+    results = {k: ds for k, ds in store.load_results(profile).items()
+               if k not in MEASUREMENTS}  # made outside the default target
     if not results:
         print(f"no results under results/{profile}: run the {profile} pipeline first")
         return 1

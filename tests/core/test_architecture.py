@@ -116,3 +116,55 @@ def test_import_parser_finds_every_form(tmp_path, source, module, found):
     path.write_text(source)
     hit = any(_within(n, ("thesis.paper",)) for n in imported_modules(path, root))
     assert hit == found
+
+
+def import_cycles(root: Path = SRC) -> list[list[str]]:
+    """The import circles among the modules under ``root``: strongly connected components
+    (more than one module) of the graph "module -> module it imports", function-local
+    imports included. A package's ``__init__`` is left out (it hands its submodules' names
+    on; importing a name from a package is no tie between two modules' code)."""
+    files = {_module_name(p, root): p for p in sorted(root.rglob("*.py"))
+             if p.name != "__init__.py"}
+    graph = {m: sorted(n for n in imported_modules(p, root) if n in files and n != m)
+             for m, p in files.items()}
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    cycles = []
+
+    def visit(v: str) -> None:  # Tarjan's algorithm
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = [stack.pop()]
+            while comp[-1] != v:
+                comp.append(stack.pop())
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return cycles
+
+
+def test_no_import_circle():
+    assert import_cycles() == []
+
+
+def test_an_import_circle_is_found(tmp_path):
+    """A local import that closes a loop (``a`` -> ``b`` at the top, ``b`` -> ``a`` inside
+    a function) is a circle; a package ``__init__`` that re-exports its modules is not."""
+    root = tmp_path / "thesis"
+    (root / "pkg").mkdir(parents=True)
+    (root / "pkg" / "__init__.py").write_text("from thesis.pkg.a import f\n")
+    (root / "pkg" / "a.py").write_text("from thesis.pkg.b import g\n\ndef f():\n    pass\n")
+    (root / "pkg" / "b.py").write_text("def g():\n    from thesis.pkg import a\n")
+    (root / "pkg" / "c.py").write_text("from thesis.pkg import f\n")
+    assert import_cycles(root) == [["thesis.pkg.a", "thesis.pkg.b"]]

@@ -11,7 +11,8 @@
 # apart, spread over a cluster's nodes (profiles/slurm), and adding a seed reruns only that
 # seed (a part's params leave `ch2.seeds` out; its seed is in its path). The default
 # profile's updates per model are chosen so that its FFN-SPN and RNN-SPN jobs take about the
-# same time (the budget arithmetic is in config/default.yaml's ch2 comment), three per core.
+# same time, three per core (per-update cost: ch2_train_step below; the jobs' own times:
+# benchmarks/<profile>/ch2/, reports/<profile>/measurements.md).
 
 from thesis.chirpz.data import training_memory_mb
 from thesis.chirpz.experiments import MODELS as CH2_MODELS
@@ -47,49 +48,77 @@ rule ch2_cluttered_mnist:
     threads: 1
     resources:
         # upper estimate (profiles never measured here, e.g. paper): one block of float32
-        # canvases at a time; 60 000 / 10 000 / 10 000 sequences: 550 MB peak, 26 s of CPU
+        # canvases at a time (what a run took: benchmarks/<profile>/ch2/cluttered_mnist.tsv)
         **res("ch2", "cluttered_mnist", mem_mb=2000, runtime=15),
     shell:
         "{THESIS} run ch2/cluttered_mnist --profile {PROFILE} --output {output.data} > {log} 2>&1"
 
 
-for _model in CH2_MODELS:
+rule ch2_table2_2_ffn_spn:
+    message:
+        "Training ffn_spn for every d and transform of Tab. 2.2, seed {wildcards.seed}, "
+        "profile {PROFILE}"
+    input:
+        data=rules.ch2_cluttered_mnist.output.data,
+    output:
+        nc=ch2_part("ffn_spn", "{seed}"),
+    wildcard_constraints:
+        seed=r"\d+",
+    params:
+        cfg=ch2_part_cfg("ffn_spn"),
+        code=code_of("ch2"),
+        key="ch2/table2_2_ffn_spn",
+    log:
+        log_path("ch2", "table2_2_ffn_spn_seed{seed}"),
+    benchmark:
+        bench_path("ch2", "table2_2_ffn_spn_seed{seed}")
+    threads: 1
+    resources:
+        **res(
+            "ch2",
+            "table2_2_ffn_spn_seed{seed}",
+            mem_mb=training_memory_mb(config["ch2"]["data"]),
+            runtime=600,
+            gpu=True,
+        ),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
+        "--input data={input.data} --output {output.nc} > {log} 2>&1"
 
-    rule:
-        name:
-            f"ch2_table2_2_{_model}"
-        message:
-            f"Training {_model} for every d and transform of Tab. 2.2, seed {{wildcards.seed}}, "
-            f"profile {PROFILE}"
-        input:
-            data=rules.ch2_cluttered_mnist.output.data,
-        output:
-            nc=ch2_part(_model, "{seed}"),
-        wildcard_constraints:
-            seed=r"\d+",
-        params:
-            cfg=ch2_part_cfg(_model),
-            code=code_of("ch2"),
-            key=f"ch2/table2_2_{_model}",
-        log:
-            log_path("ch2", f"table2_2_{_model}_seed{{seed}}"),
-        benchmark:
-            bench_path("ch2", f"table2_2_{_model}_seed{{seed}}")
-        # RNN-SPN's jobs are the longer ones (default profile: ~1.07x): started first, the
-        # jobs end together
-        priority: 1 if _model == "rnn_spn" else 0
-        threads: 1
-        resources:
-            **res(
-                "ch2",
-                f"table2_2_{_model}_seed{{seed}}",
-                mem_mb=training_memory_mb(config["ch2"]["data"]),
-                runtime=600,
-                gpu=True,
-            ),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
-            "--input data={input.data} --output {output.nc} > {log} 2>&1"
+
+rule ch2_table2_2_rnn_spn:
+    message:
+        "Training rnn_spn for every d and transform of Tab. 2.2, seed {wildcards.seed}, "
+        "profile {PROFILE}"
+    input:
+        data=rules.ch2_cluttered_mnist.output.data,
+    output:
+        nc=ch2_part("rnn_spn", "{seed}"),
+    wildcard_constraints:
+        seed=r"\d+",
+    params:
+        cfg=ch2_part_cfg("rnn_spn"),
+        code=code_of("ch2"),
+        key="ch2/table2_2_rnn_spn",
+    log:
+        log_path("ch2", "table2_2_rnn_spn_seed{seed}"),
+    benchmark:
+        bench_path("ch2", "table2_2_rnn_spn_seed{seed}")
+    # RNN-SPN's jobs are the longer ones (benchmarks/<profile>/ch2/): started first, the
+    # jobs end together
+    priority: 1
+    threads: 1
+    resources:
+        **res(
+            "ch2",
+            "table2_2_rnn_spn_seed{seed}",
+            mem_mb=training_memory_mb(config["ch2"]["data"]),
+            runtime=600,
+            gpu=True,
+        ),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} --set 'ch2.seeds=[{wildcards.seed}]' "
+        "--input data={input.data} --output {output.nc} > {log} 2>&1"
 
 
 rule ch2_table2_2:
@@ -134,9 +163,61 @@ rule ch2_chirpz_scaling:
         "{THESIS} run ch2/chirpz_scaling --profile {PROFILE} --output {output.nc} > {log} 2>&1"
 
 
+# The measurements behind the ch2 sizes of config/<profile>.yaml (outside the chapter
+# target and `make all`: they time training, minutes to hours): the width pilot (error
+# against CPU time at several widths and run lengths) and the cost of one training step
+# per model, transform and d. The report renders both when present (thesis.report.pilots).
+
+
+rule ch2_width_pilot:
+    message:
+        "Width pilot (§2.5): per-digit error against CPU time of one Tab. 2.2 cell at "
+        "several widths and run lengths (ch2.width_pilot), profile {PROFILE}"
+    output:
+        nc=result("ch2", "width_pilot"),
+    params:
+        cfg=cfg_slice("ch2/width_pilot"),
+        code=code_of("ch2"),
+    log:
+        log_path("ch2", "width_pilot"),
+    benchmark:
+        bench_path("ch2", "width_pilot")
+    threads: 1
+    resources:
+        **res("ch2", "width_pilot", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} bench chirpz-widths --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+rule ch2_train_step:
+    message:
+        "Training-step bench (§2.5): forward, backward and update of every Tab. 2.2 "
+        "cell (ch2.train_bench), profile {PROFILE}"
+    output:
+        nc=result("ch2", "train_step"),
+    params:
+        cfg=cfg_slice("ch2/train_step"),
+        code=code_of("ch2"),
+    log:
+        log_path("ch2", "train_step"),
+    benchmark:
+        bench_path("ch2", "train_step")
+    threads: 1
+    resources:
+        **res("ch2", "train_step", mem_mb=6000, runtime=30, gpu=True),
+    shell:
+        "{THESIS} bench chirpz-train --profile {PROFILE} --output {output.nc} > {log} 2>&1"
+
+
+rule ch2_pilot:
+    input:
+        rules.ch2_width_pilot.output.nc,
+        rules.ch2_train_step.output.nc,
+
+
 CHAPTER_TARGETS["ch2"] = [
     rules.ch2_table2_2.output.nc,
     rules.ch2_chirpz_scaling.output.nc,
 ]
 FIGURES["ch2"] = ["training_curves", "chirpz_scaling"]
-TABLES["ch2"] = ["table2_2"]
+TABLES["ch2"] = ["table2_2", "width_pilot", "train_step"]

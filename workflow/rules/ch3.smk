@@ -24,36 +24,96 @@ rule ch3_table3_1:
         "{THESIS} run ch3/table3_1 --profile {PROFILE} --output {output.nc} > {log} 2>&1"
 
 
-for _name, _what in [
-    ("fig3_4", "speed against gait frequency (Fig. 3.4)"),
-    ("robustness", "perturbed optima (§3.3.1.1)"),
-    ("table3_2", "the five turning strategies (Tab. 3.2)"),
-    ("fig3_5", "LED tracking by step size and scapulae (Fig. 3.5)"),
-]:
+rule ch3_fig3_4:
+    message:
+        "Oncilla: speed against gait frequency (Fig. 3.4), profile {PROFILE}"
+    input:
+        table3_1=rules.ch3_table3_1.output.nc,
+    output:
+        nc=result("ch3", "fig3_4"),
+    params:
+        cfg=cfg_slice("ch3"),
+        code=code_of("ch3"),
+        key="ch3/fig3_4",
+    log:
+        log_path("ch3", "fig3_4"),
+    benchmark:
+        bench_path("ch3", "fig3_4")
+    threads: 1
+    resources:
+        **res("ch3", "fig3_4", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
 
-    rule:
-        name:
-            f"ch3_{_name}"
-        message:
-            f"Oncilla: {_what}, profile {PROFILE}"
-        input:
-            table3_1=rules.ch3_table3_1.output.nc,
-        output:
-            nc=result("ch3", _name),
-        params:
-            cfg=cfg_slice("ch3"),
-            code=code_of("ch3"),
-            key=f"ch3/{_name}",
-        log:
-            log_path("ch3", _name),
-        benchmark:
-            bench_path("ch3", _name)
-        threads: 1
-        resources:
-            **res("ch3", _name, mem_mb=4000, runtime=60),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} "
-            "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
+
+rule ch3_robustness:
+    message:
+        "Oncilla: perturbed optima (§3.3.1.1), profile {PROFILE}"
+    input:
+        table3_1=rules.ch3_table3_1.output.nc,
+    output:
+        nc=result("ch3", "robustness"),
+    params:
+        cfg=cfg_slice("ch3"),
+        code=code_of("ch3"),
+        key="ch3/robustness",
+    log:
+        log_path("ch3", "robustness"),
+    benchmark:
+        bench_path("ch3", "robustness")
+    threads: 1
+    resources:
+        **res("ch3", "robustness", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
+
+
+rule ch3_table3_2:
+    message:
+        "Oncilla: the five turning strategies (Tab. 3.2), profile {PROFILE}"
+    input:
+        table3_1=rules.ch3_table3_1.output.nc,
+    output:
+        nc=result("ch3", "table3_2"),
+    params:
+        cfg=cfg_slice("ch3"),
+        code=code_of("ch3"),
+        key="ch3/table3_2",
+    log:
+        log_path("ch3", "table3_2"),
+    benchmark:
+        bench_path("ch3", "table3_2")
+    threads: 1
+    resources:
+        **res("ch3", "table3_2", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
+
+
+rule ch3_fig3_5:
+    message:
+        "Oncilla: LED tracking by step size and scapulae (Fig. 3.5), profile {PROFILE}"
+    input:
+        table3_1=rules.ch3_table3_1.output.nc,
+    output:
+        nc=result("ch3", "fig3_5"),
+    params:
+        cfg=cfg_slice("ch3"),
+        code=code_of("ch3"),
+        key="ch3/fig3_5",
+    log:
+        log_path("ch3", "fig3_5"),
+    benchmark:
+        bench_path("ch3", "fig3_5")
+    threads: 1
+    resources:
+        **res("ch3", "fig3_5", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input table3_1={input.table3_1} --output {output.nc} > {log} 2>&1"
 
 
 CHAPTER_TARGETS["ch3"] = [

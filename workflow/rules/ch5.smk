@@ -35,40 +35,182 @@ rule ch5_puppy_recordings:
 
 # priority: the two longest tables first, so that two cores stay busy to the end (with the
 # longest started last, one core idles while it finishes alone)
-for _name, _what, _priority in [
-    ("table5_3", "LR and RC on the 8 sensor groups (Tab. 5.3)", 0),
-    ("table5_4", "LR, ELM and RC over hidden-node counts (Tab. 5.4)", 1),
-    ("table5_5", "SFA2 and RC-SFA on the 8 sensor groups (Tab. 5.5)", 2),
-    ("table5_6", "ELM-SFA and RC-SFA on bound-right trials (Tab. 5.6)", 0),
-    ("separability", "leave-one-trial-out accuracy per gait and frequency", 0),
-    ("table5_3_blocks", "Tab. 5.3 with the previous block selections (variant)", 0),
-    ("table5_3_parts", "Tab. 5.3 with selections of parts across trials (variant)", 0),
-]:
 
-    rule:
-        name:
-            f"ch5_{_name}"
-        message:
-            f"Puppy II terrain classification: {_what}, profile {PROFILE}"
-        input:
-            recordings=rules.ch5_puppy_recordings.output.data,
-        output:
-            nc=result("ch5", _name),
-        params:
-            cfg=cfg_slice("ch5"),
-            code=code_of("ch5"),
-            key=f"ch5/{_name}",
-        log:
-            log_path("ch5", _name),
-        benchmark:
-            bench_path("ch5", _name)
-        threads: 1
-        priority: _priority
-        resources:
-            **res("ch5", _name, mem_mb=4000, runtime=60),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} "
-            "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+rule ch5_table5_3:
+    message:
+        "Puppy II terrain classification: LR and RC on the 8 sensor groups (Tab. 5.3), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_3"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_3",
+    log:
+        log_path("ch5", "table5_3"),
+    benchmark:
+        bench_path("ch5", "table5_3")
+    threads: 1
+    priority: 0
+    resources:
+        **res("ch5", "table5_3", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_table5_4:
+    message:
+        "Puppy II terrain classification: LR, ELM and RC over hidden-node counts (Tab. 5.4), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_4"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_4",
+    log:
+        log_path("ch5", "table5_4"),
+    benchmark:
+        bench_path("ch5", "table5_4")
+    threads: 1
+    priority: 1
+    resources:
+        **res("ch5", "table5_4", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_table5_5:
+    message:
+        "Puppy II terrain classification: SFA2 and RC-SFA on the 8 sensor groups (Tab. 5.5), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_5"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_5",
+    log:
+        log_path("ch5", "table5_5"),
+    benchmark:
+        bench_path("ch5", "table5_5")
+    threads: 1
+    priority: 2
+    resources:
+        **res("ch5", "table5_5", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_table5_6:
+    message:
+        "Puppy II terrain classification: ELM-SFA and RC-SFA on bound-right trials (Tab. 5.6), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_6"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_6",
+    log:
+        log_path("ch5", "table5_6"),
+    benchmark:
+        bench_path("ch5", "table5_6")
+    threads: 1
+    priority: 0
+    resources:
+        **res("ch5", "table5_6", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_separability:
+    message:
+        "Puppy II terrain classification: leave-one-trial-out accuracy per gait and frequency, "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "separability"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/separability",
+    log:
+        log_path("ch5", "separability"),
+    benchmark:
+        bench_path("ch5", "separability")
+    threads: 1
+    priority: 0
+    resources:
+        **res("ch5", "separability", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_table5_3_blocks:
+    message:
+        "Puppy II terrain classification: Tab. 5.3 with the previous block selections (variant), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_3_blocks"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_3_blocks",
+    log:
+        log_path("ch5", "table5_3_blocks"),
+    benchmark:
+        bench_path("ch5", "table5_3_blocks")
+    threads: 1
+    priority: 0
+    resources:
+        **res("ch5", "table5_3_blocks", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
+
+
+rule ch5_table5_3_parts:
+    message:
+        "Puppy II terrain classification: Tab. 5.3 with selections of parts across trials "
+        "(variant), "
+        "profile {PROFILE}"
+    input:
+        recordings=rules.ch5_puppy_recordings.output.data,
+    output:
+        nc=result("ch5", "table5_3_parts"),
+    params:
+        cfg=cfg_slice("ch5"),
+        code=code_of("ch5"),
+        key="ch5/table5_3_parts",
+    log:
+        log_path("ch5", "table5_3_parts"),
+    benchmark:
+        bench_path("ch5", "table5_3_parts")
+    threads: 1
+    priority: 0
+    resources:
+        **res("ch5", "table5_3_parts", mem_mb=4000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input recordings={input.recordings} --output {output.nc} > {log} 2>&1"
 
 
 rule ch5_fig5_3:

@@ -36,66 +36,193 @@ rule ch6_teacher:
         + "--output {output.nc} > {log} 2>&1"
 
 
-for _name, _what in [
-    ("trot", "the trot with H = 50, B = 5, phase 1 alone, power-off sweep (§6.4-6.5)"),
-    ("walk", "the walk with H = 50, B = 12 and its control (§6.5, Fig. 6.5)"),
-    ("linear_feedback", "linear feedback without hidden layer (§6.3.1)"),
-    ("minimal_hidden", "the sweep of H at B = 0 (§6.5)"),
-    ("minimal_buffer", "the sweep of B at H = 12 (§6.5)"),
-    ("minimal_training", "the sweep of the training-stage length (§6.5)"),
-]:
-
-    rule:
-        name:
-            f"ch6_{_name}"
-        message:
-            f"Oncilla closed loop: {_what}, profile {PROFILE}"
-        input:
-            teacher=rules.ch6_teacher.output.nc,
-        output:
-            nc=result("ch6", _name),
-        params:
-            cfg=cfg_slice(f"ch6/{_name}"),
-            code=code_of("ch6"),
-            key=f"ch6/{_name}",
-        log:
-            log_path("ch6", _name),
-        benchmark:
-            bench_path("ch6", _name)
-        threads: 2
-        resources:
-            **res("ch6", _name, mem_mb=6000, runtime=60),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} "
-            "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+rule ch6_trot:
+    message:
+        "Oncilla closed loop: the trot with H = 50, B = 5, phase 1 alone, power-off sweep "
+        "(§6.4-6.5), "
+        "profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "trot"),
+    params:
+        cfg=cfg_slice("ch6/trot"),
+        code=code_of("ch6"),
+        key="ch6/trot",
+    log:
+        log_path("ch6", "trot"),
+    benchmark:
+        bench_path("ch6", "trot")
+    threads: 2
+    resources:
+        **res("ch6", "trot", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
 
 
-for _fig, _src in [("fig6_4", "trot"), ("fig6_5", "walk")]:
+rule ch6_walk:
+    message:
+        "Oncilla closed loop: the walk with H = 50, B = 12 and its control (§6.5, Fig. 6.5), "
+        "profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "walk"),
+    params:
+        cfg=cfg_slice("ch6/walk"),
+        code=code_of("ch6"),
+        key="ch6/walk",
+    log:
+        log_path("ch6", "walk"),
+    benchmark:
+        bench_path("ch6", "walk")
+    threads: 2
+    resources:
+        **res("ch6", "walk", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
 
-    rule:
-        name:
-            f"ch6_{_fig}"
-        message:
-            f"Joint-space trajectories of the right hind leg from {_src}, profile {PROFILE}"
-        input:
-            src=result("ch6", _src),
-        output:
-            nc=result("ch6", _fig),
-        params:
-            cfg=cfg_slice(f"ch6/{_fig}"),
-            code=code_of("ch6"),
-            key=f"ch6/{_fig}",
-            src=_src,
-        log:
-            log_path("ch6", _fig),
-        benchmark:
-            bench_path("ch6", _fig)
-        threads: 1
-        resources:
-            **res("ch6", _fig, mem_mb=2000, runtime=10),
-        shell:
-            "{THESIS} run {params.key} --profile {PROFILE} "
-            "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
+
+rule ch6_linear_feedback:
+    message:
+        "Oncilla closed loop: linear feedback without hidden layer (§6.3.1), profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "linear_feedback"),
+    params:
+        cfg=cfg_slice("ch6/linear_feedback"),
+        code=code_of("ch6"),
+        key="ch6/linear_feedback",
+    log:
+        log_path("ch6", "linear_feedback"),
+    benchmark:
+        bench_path("ch6", "linear_feedback")
+    threads: 2
+    resources:
+        **res("ch6", "linear_feedback", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_minimal_hidden:
+    message:
+        "Oncilla closed loop: the sweep of H at B = 0 (§6.5), profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "minimal_hidden"),
+    params:
+        cfg=cfg_slice("ch6/minimal_hidden"),
+        code=code_of("ch6"),
+        key="ch6/minimal_hidden",
+    log:
+        log_path("ch6", "minimal_hidden"),
+    benchmark:
+        bench_path("ch6", "minimal_hidden")
+    threads: 2
+    resources:
+        **res("ch6", "minimal_hidden", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_minimal_buffer:
+    message:
+        "Oncilla closed loop: the sweep of B at H = 12 (§6.5), profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "minimal_buffer"),
+    params:
+        cfg=cfg_slice("ch6/minimal_buffer"),
+        code=code_of("ch6"),
+        key="ch6/minimal_buffer",
+    log:
+        log_path("ch6", "minimal_buffer"),
+    benchmark:
+        bench_path("ch6", "minimal_buffer")
+    threads: 2
+    resources:
+        **res("ch6", "minimal_buffer", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_minimal_training:
+    message:
+        "Oncilla closed loop: the sweep of the training-stage length (§6.5), profile {PROFILE}"
+    input:
+        teacher=rules.ch6_teacher.output.nc,
+    output:
+        nc=result("ch6", "minimal_training"),
+    params:
+        cfg=cfg_slice("ch6/minimal_training"),
+        code=code_of("ch6"),
+        key="ch6/minimal_training",
+    log:
+        log_path("ch6", "minimal_training"),
+    benchmark:
+        bench_path("ch6", "minimal_training")
+    threads: 2
+    resources:
+        **res("ch6", "minimal_training", mem_mb=6000, runtime=60),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input teacher={input.teacher} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_fig6_4:
+    message:
+        "Joint-space trajectories of the right hind leg from trot, profile {PROFILE}"
+    input:
+        src=rules.ch6_trot.output.nc,
+    output:
+        nc=result("ch6", "fig6_4"),
+    params:
+        cfg=cfg_slice("ch6/fig6_4"),
+        code=code_of("ch6"),
+        key="ch6/fig6_4",
+        src="trot",
+    log:
+        log_path("ch6", "fig6_4"),
+    benchmark:
+        bench_path("ch6", "fig6_4")
+    threads: 1
+    resources:
+        **res("ch6", "fig6_4", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
+
+
+rule ch6_fig6_5:
+    message:
+        "Joint-space trajectories of the right hind leg from walk, profile {PROFILE}"
+    input:
+        src=rules.ch6_walk.output.nc,
+    output:
+        nc=result("ch6", "fig6_5"),
+    params:
+        cfg=cfg_slice("ch6/fig6_5"),
+        code=code_of("ch6"),
+        key="ch6/fig6_5",
+        src="walk",
+    log:
+        log_path("ch6", "fig6_5"),
+    benchmark:
+        bench_path("ch6", "fig6_5")
+    threads: 1
+    resources:
+        **res("ch6", "fig6_5", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} run {params.key} --profile {PROFILE} "
+        "--input {params.src}={input.src} --output {output.nc} > {log} 2>&1"
 
 
 rule ch6_fig6_6:

@@ -8,33 +8,68 @@
 
 MODEL_CODE = code_version(*CORE_CODE, "modelcheck", "gaits", "physics")
 
-for _name, _what, _minutes in [
-    ("validation", "the published gaits against V1-V6", 30),
-    ("convergence", "the validation at dt, dt/2 and twice the sweeps", 90),
-    ("calibration", "the knee spring's fit to V1 alone and its residual", 30),
-]:
 
-    rule:
-        name:
-            f"model_{_name}"
-        message:
-            f"Oncilla model: {_what}, profile {PROFILE}"
-        output:
-            nc=result("model", _name),
-        params:
-            cfg=cfg_slice(f"model/{_name}"),
-            code=MODEL_CODE,
-            only=_name,
-        log:
-            log_path("model", _name),
-        benchmark:
-            bench_path("model", _name)
-        threads: 2
-        resources:
-            **res("model", _name, mem_mb=4000, runtime=_minutes),
-        shell:
-            "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
-            "--output {output.nc} > {log} 2>&1"
+rule model_validation:
+    message:
+        "Oncilla model: the published gaits against V1-V6, profile {PROFILE}"
+    output:
+        nc=result("model", "validation"),
+    params:
+        cfg=cfg_slice("model/validation"),
+        code=MODEL_CODE,
+        only="validation",
+    log:
+        log_path("model", "validation"),
+    benchmark:
+        bench_path("model", "validation")
+    threads: 2
+    resources:
+        **res("model", "validation", mem_mb=4000, runtime=30),
+    shell:
+        "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
+
+
+rule model_convergence:
+    message:
+        "Oncilla model: the validation at dt, dt/2 and twice the sweeps, profile {PROFILE}"
+    output:
+        nc=result("model", "convergence"),
+    params:
+        cfg=cfg_slice("model/convergence"),
+        code=MODEL_CODE,
+        only="convergence",
+    log:
+        log_path("model", "convergence"),
+    benchmark:
+        bench_path("model", "convergence")
+    threads: 2
+    resources:
+        **res("model", "convergence", mem_mb=4000, runtime=90),
+    shell:
+        "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
+
+
+rule model_calibration:
+    message:
+        "Oncilla model: the knee spring's fit to V1 alone and its residual, profile {PROFILE}"
+    output:
+        nc=result("model", "calibration"),
+    params:
+        cfg=cfg_slice("model/calibration"),
+        code=MODEL_CODE,
+        only="calibration",
+    log:
+        log_path("model", "calibration"),
+    benchmark:
+        bench_path("model", "calibration")
+    threads: 2
+    resources:
+        **res("model", "calibration", mem_mb=4000, runtime=30),
+    shell:
+        "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
 
 
 rule model_puppy_convergence:

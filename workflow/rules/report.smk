@@ -46,37 +46,161 @@ rule claims:
         "{THESIS} check --profile {PROFILE} --output {output.json} > {log} 2>&1"
 
 
-for _ch in CHAPTERS:
+def figure_outputs(ch):
+    """The outputs of report_figures_<ch>: the manifest and the chapter's figures (PNG),
+    each figure declared for ``snakemake --report`` with its caption file."""
+    return dict(
+        manifest=f"reports/{PROFILE}/figures/{ch}/manifest.json",
+        pngs=[report(figure_path(ch, fig), caption=f"../report/{ch}/{fig}.rst",
+                     category=CHAPTER_TITLES[ch]) for fig in FIGURES[ch]],
+    )
 
-    rule:
-        name:
-            f"report_figures_{_ch}"
-        message:
-            f"Rendering the figures of {_ch}"
-        input:
-            CHAPTER_TARGETS[_ch],
-        output:
-            manifest=f"reports/{PROFILE}/figures/{_ch}/manifest.json",
-            pngs=[
-                report(
-                    figure_path(_ch, fig),
-                    caption=f"../report/{_ch}/{fig}.rst",
-                    category=CHAPTER_TITLES[_ch],
-                )
-                for fig in FIGURES[_ch]
-            ],
-        params:
-            ch=_ch,
-            code=REPORT_CODE,
-        log:
-            f"logs/{PROFILE}/report/figures_{_ch}.log",
-        benchmark:
-            bench_path("report", f"figures_{_ch}")
-        threads: 1
-        resources:
-            **res("report", f"figures_{_ch}", mem_mb=2000, runtime=10),
-        shell:
-            "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+rule report_figures_ch2:
+    message:
+        "Rendering the figures of ch2"
+    input:
+        CHAPTER_TARGETS["ch2"],
+    output:
+        **figure_outputs("ch2"),
+    params:
+        ch="ch2",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch2.log",
+    benchmark:
+        bench_path("report", "figures_ch2")
+    threads: 1
+    resources:
+        **res("report", "figures_ch2", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_ch3:
+    message:
+        "Rendering the figures of ch3"
+    input:
+        CHAPTER_TARGETS["ch3"],
+    output:
+        **figure_outputs("ch3"),
+    params:
+        ch="ch3",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch3.log",
+    benchmark:
+        bench_path("report", "figures_ch3")
+    threads: 1
+    resources:
+        **res("report", "figures_ch3", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_ch4:
+    message:
+        "Rendering the figures of ch4"
+    input:
+        CHAPTER_TARGETS["ch4"],
+    output:
+        **figure_outputs("ch4"),
+    params:
+        ch="ch4",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch4.log",
+    benchmark:
+        bench_path("report", "figures_ch4")
+    threads: 1
+    resources:
+        **res("report", "figures_ch4", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_ch5:
+    message:
+        "Rendering the figures of ch5"
+    input:
+        CHAPTER_TARGETS["ch5"],
+    output:
+        **figure_outputs("ch5"),
+    params:
+        ch="ch5",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch5.log",
+    benchmark:
+        bench_path("report", "figures_ch5")
+    threads: 1
+    resources:
+        **res("report", "figures_ch5", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_ch6:
+    message:
+        "Rendering the figures of ch6"
+    input:
+        CHAPTER_TARGETS["ch6"],
+    output:
+        **figure_outputs("ch6"),
+    params:
+        ch="ch6",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch6.log",
+    benchmark:
+        bench_path("report", "figures_ch6")
+    threads: 1
+    resources:
+        **res("report", "figures_ch6", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_ch7:
+    message:
+        "Rendering the figures of ch7"
+    input:
+        CHAPTER_TARGETS["ch7"],
+    output:
+        **figure_outputs("ch7"),
+    params:
+        ch="ch7",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_ch7.log",
+    benchmark:
+        bench_path("report", "figures_ch7")
+    threads: 1
+    resources:
+        **res("report", "figures_ch7", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
+
+
+rule report_figures_coopt:
+    message:
+        "Rendering the figures of coopt"
+    input:
+        CHAPTER_TARGETS["coopt"],
+    output:
+        **figure_outputs("coopt"),
+    params:
+        ch="coopt",
+        code=REPORT_CODE,
+    log:
+        f"logs/{PROFILE}/report/figures_coopt.log",
+    benchmark:
+        bench_path("report", "figures_coopt")
+    threads: 1
+    resources:
+        **res("report", "figures_coopt", mem_mb=2000, runtime=10),
+    shell:
+        "{THESIS} report --profile {PROFILE} --figures {params.ch} > {log} 2>&1"
 
 
 rule report:

@@ -328,10 +328,10 @@ def training_memory_mb(data_cfg: dict) -> int:
     The three splits are held in memory as stored, uint8 canvases (:func:`open_split`;
     ``data_cfg``: the ``ch2.data`` config section), and only a mini-batch is float32 at a
     time; the estimate is twice their size (the array and HDF5's decompression buffers
-    while it is read) plus 1.5 GB of runtime. Measured on the default profile when the
-    splits were held as float32 (11 500 sequences of 100 x 100 px, 460 MB of canvases):
-    1.1 GB resident while training RNN-SPN. The thesis's 80 000 sequences: 800 MB of uint8
-    canvases (3.2 GB as float32), an estimate of 3.1 GB.
+    while it is read) plus 1.5 GB of runtime; the thesis's 80 000 sequences of 100 x 100 px
+    (800 MB of uint8 canvases) give 3.1 GB. What the jobs used is measured, not typed here:
+    ``max_rss`` of benchmarks/<profile>/ch2/table2_2_*.tsv (reports/<profile>/
+    measurements.md), which workflow/resources.yaml requests for a profile measured there.
     """
     n = int(data_cfg["n_train"]) + int(data_cfg["n_valid"]) + int(data_cfg["n_test"])
     canvases_mb = n * int(data_cfg["canvas"]) ** 2 / 1e6

@@ -29,9 +29,9 @@ DEPARTURES: tuple[Departure, ...] = (
             "on PyPI (docs/sources.md#mnist-digits). Fewer source digits make the training "
             "sequences less varied: "
             "more sequences add new placements, slopes, clutter and digit combinations, not "
-            "new digit shapes. What the pool costs is measured by the width pilot (thesis "
-            "bench chirpz-widths: the error of one network on new canvases of train-pool "
-            "digits against test-pool digits; its table is in config/default.yaml).",
+            "new digit shapes. What the pool costs is measured by the width pilot "
+            "(`snakemake ch2_pilot`, width_pilot.nc: the error of one network on new "
+            "canvases of train-pool digits against test-pool digits, a table of the report).",
         config=("ch2.data.mnist_idx",),
     ),
     Departure(
@@ -57,10 +57,11 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="Tab. 2.1 gives the filters and units of every layer of FFN-SPN and RNN-SPN.",
         ours="The profile's widths (the paper and gpu profiles: Tab. 2.1's); the layer sequence "
              "of Tab. 2.1 is kept. The default profile's widths are chosen by a rule from the "
-             "width pilot (thesis bench chirpz-widths --profile default: FFN-SPN bilinear "
+             "width pilot (`snakemake ch2_pilot --config profile=default`, "
+             "results/default/ch2/width_pilot.nc, a table of the report: FFN-SPN bilinear "
              "d = 2, seed 0, the localisation and classifier widths of "
-             "ch2.width_pilot.widths, runs of 1 000 and 2 500 updates; its table is in "
-             "config/default.yaml): the widths with the lowest per-digit test error at the "
+             "ch2.width_pilot.widths, runs of 1 000 and 2 500 updates): the widths with the "
+             "lowest per-digit test error at the "
              "CPU time per cell that the 90-minute budget gives an FFN-SPN d = 2 cell, a "
              "narrow localisation network (8 filters, 64 units) and a wide classifier. "
              "RNN-SPN takes the same widths (localisation filters, GRU units, classifier "
@@ -88,11 +89,11 @@ DEPARTURES: tuple[Departure, ...] = (
              "d = 2 and 3, the smoke profile d = 3. Tab. 2.2's d = 1 row is 'not run' in the "
              "default profile.",
         why="Each d is a full set of trainings. At the default widths an update of the three "
-            "d = 1 cells costs 1.2 s (FFN-SPN) and 3.5 s (RNN-SPN), more than every other "
-            "cell together (thesis bench chirpz-train): three seeds of d = 1 at the length "
-            "the other cells need would take about 4 h of the default's 90 min, and at a "
-            "third of it they stay far from converged. Claims average over the d that were "
-            "trained.",
+            "d = 1 cells costs more than every other cell together (the training-step "
+            "bench, `snakemake ch2_train_step`: train_step.nc, seconds by d): three seeds "
+            "of d = 1 at the length the other cells need would take several times the "
+            "default's budget, and at a third of it they stay far from converged. Claims "
+            "average over the d that were trained.",
         config=("ch2.grid.downsample",),
         paper_keys=("table2_2/d=1/downsample", "table2_2/d=2/downsample",
                     "table2_2/d=3/downsample"),
@@ -159,8 +160,9 @@ DEPARTURES: tuple[Departure, ...] = (
              "plain').",
         why="A budget departure: the default profile must train both models and the four "
             "transforms with three seeds in about 90 minutes on two CPU cores, so the number "
-            "of updates is sized from the measured step times (the arithmetic is in "
-            "config/default.yaml: thesis bench chirpz-train and chirpz-widths); FFN-SPN "
+            "of updates is sized from the measured step times (the training-step bench "
+            "and the width pilot, `snakemake ch2_pilot`: train_step.nc, width_pilot.nc); "
+            "FFN-SPN "
             "d = 2 gets about the length (2 280 updates) at which the width pilot's chosen "
             "widths come to about 6 %. The budget is spent on many distinct sequences "
             "rather than many passes over few: 8 000 sequences are overfitted (training "

@@ -19,8 +19,6 @@ config H, B, N, the stage and power-off lengths; the simulation rate (wall clock
 from __future__ import annotations
 
 import dataclasses
-import functools
-import importlib
 
 import numpy as np
 import xarray as xr
@@ -32,9 +30,7 @@ from thesis.embodied import loop
 from thesis.embodied import protocol as PR
 from thesis.embodied import teacher as TE
 from thesis.embodied import twins
-from thesis.gaits.experiments import contact_relaxation
-
-O = importlib.import_module("thesis.physics.models.oncilla")
+from thesis.physics.models.oncilla_config import oncilla_from_config
 
 #: Per-run metrics stored (criteria.evaluate keys) -> (units, long_name).
 METRICS = {
@@ -105,24 +101,12 @@ def controller_dt(cfg: dict) -> float:
     return int(cfg["control"]["substeps"]) * float(cfg["model"]["dt"])
 
 
-@functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int, knee_spring: float, joint_hz: float,
-           contact_hz: float, warm_start: float, relaxation: float, sweep_order: str,
-           contact_relaxation: float | None):
-    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
-                     joint_hz=joint_hz, contact_hz=contact_hz, warm_start=warm_start,
-                     relaxation=relaxation, sweep_order=sweep_order,
-                     contact_relaxation=contact_relaxation)
-
-
 def model_of(cfg: dict):
     """(Model, State) of the configured Oncilla (``ch6.model``: step, sweeps, the fitted
     knee spring, the constraint softness [Hz] and the solver's warm start, relaxation and
-    sweep order and contact relaxation; by default chapters 3 and 4's robot)."""
-    m = cfg["model"]
-    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
-                  float(m["joint_hz"]), float(m["contact_hz"]), float(m["warm_start"]),
-                  float(m["relaxation"]), str(m["sweep_order"]), contact_relaxation(m))
+    sweep order and contact relaxation; by default chapters 3 and 4's robot;
+    :func:`thesis.physics.models.oncilla_config.oncilla_from_config`)."""
+    return oncilla_from_config(cfg["model"])
 
 
 def teachers_from(ds: xr.Dataset) -> dict[str, tuple]:

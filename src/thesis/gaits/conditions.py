@@ -35,8 +35,8 @@ import numpy as np
 
 from thesis import seeding
 from thesis.gaits import runner as R
-from thesis.gaits.experiments import contact_relaxation
 from thesis.physics import terrain
+from thesis.physics.models.oncilla_config import oncilla_from_config, oncilla_kwargs
 from thesis.physics.step import tether_geometry
 
 # the module (the package re-exports the constructor under the same name)
@@ -82,27 +82,11 @@ def soft_front_legs(model, factor: float):
     return model.replace(jspring_k=jnp.asarray(model.jspring_k).at[idx].multiply(factor))
 
 
-def _model_kwargs(cfg) -> dict:
-    """``oncilla()`` arguments of the ``model`` and ``tether`` config sections."""
-    m, t = cfg["model"], cfg["tether"]
-    return dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
-                knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
-                relaxation=float(m["relaxation"]), sweep_order=str(m["sweep_order"]),
-                contact_relaxation=contact_relaxation(m),
-                tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
-                tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
-                tether_width=float(t["width"]))
-
-
-@functools.lru_cache(maxsize=4)
-def _oncilla(kwargs: tuple):
-    return O.oncilla(**dict(kwargs))
-
-
 def base_model(cfg):
     """(Model, State) of the flat-ground Oncilla of the ``ch4`` config section, with the
-    safety thread of §4.5 (``tether``)."""
-    return _oncilla(tuple(sorted(_model_kwargs(cfg).items())))
+    safety thread of §4.5 (``tether``;
+    :func:`thesis.physics.models.oncilla_config.oncilla_from_config`)."""
+    return oncilla_from_config(cfg["model"], cfg["tether"])
 
 
 #: Slack [m] of a thread that never tightens (the robot cannot get this far from the rail).
@@ -196,8 +180,9 @@ def start_range(cfg, name: str, duration: float):
 def _pebbly(key: str, root_seed: int):
     cfg = json.loads(key)
     centres, r = pebble_layout(cfg, root_seed)
-    return O.oncilla(**_model_kwargs(cfg), field=dict(name="pebbles", centres=centres,
-                                                      radii=r, k=int(cfg["pebbles"]["k"])))
+    return O.oncilla(**oncilla_kwargs(cfg["model"], cfg["tether"]),
+                     field=dict(name="pebbles", centres=centres, radii=r,
+                                k=int(cfg["pebbles"]["k"])))
 
 
 def condition_model(cfg, name: str, root_seed: int | None = None):

@@ -11,7 +11,6 @@ compared.
 from __future__ import annotations
 
 import importlib
-import functools
 
 import numpy as np
 import xarray as xr
@@ -22,6 +21,7 @@ from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
 from thesis.gaits import turning as TU
 from thesis.optim import pso
+from thesis.physics.models.oncilla_config import oncilla_from_config
 from thesis.store import WALL_CLOCK
 # the module (the package re-exports the constructor under the same name)
 O = importlib.import_module("thesis.physics.models.oncilla")
@@ -36,28 +36,11 @@ def param_label(name: str) -> str:
     return "t_stance_f" if name == "duty" else name
 
 
-@functools.lru_cache(maxsize=4)
-def _model(dt: float, iterations: int, knee_spring: float, warm_start: float,
-           relaxation: float, sweep_order: str, contact_relaxation: float | None):
-    return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
-                     warm_start=warm_start, relaxation=relaxation, sweep_order=sweep_order,
-                     contact_relaxation=contact_relaxation)
-
-
 def model_of(cfg):
     """(Model, State) of the configured Oncilla (``model``: dt, sweeps, the fitted knee
-    spring, the solver's warm start, relaxation, sweep order and contact relaxation)."""
-    m = cfg["model"]
-    return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
-                  float(m["warm_start"]), float(m["relaxation"]), str(m["sweep_order"]),
-                  contact_relaxation(m))
-
-
-def contact_relaxation(m: dict) -> float | None:
-    """The ``model`` section's ``contact_relaxation`` (None where absent or null: the
-    contact rows take ``relaxation``; :mod:`thesis.physics.solver`)."""
-    v = m.get("contact_relaxation")
-    return None if v is None else float(v)
+    spring, the solver's warm start, relaxation, sweep order and contact relaxation;
+    :func:`thesis.physics.models.oncilla_config.oncilla_from_config`)."""
+    return oncilla_from_config(cfg["model"])
 
 
 #: Length of the padded parameter vectors of a mixed batch (the sine family has 13).

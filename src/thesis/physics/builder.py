@@ -43,6 +43,7 @@ import numpy as np
 import jax.numpy as jnp
 
 from thesis.physics.math import quat_to_rot
+from thesis.physics.tables import build_model
 from thesis.physics.types import SWEEP_ORDERS, GeomType, JointType, ServoKind
 
 __all__ = ["Builder", "box_inertia", "sphere_inertia", "JOINT_HZ", "LIMIT_HZ", "CONTACT_HZ"]
@@ -55,15 +56,6 @@ LIMIT_HZ = 100.0
 #: Default softness of the "default" contact material [Hz]; independent of dt: 0.25 / dt
 #: at the default dt 0.01 s.
 CONTACT_HZ = 25.0
-
-_ROW_MASK = {
-    JointType.HINGE: (1, 1, 1, 0, 1, 1),
-    JointType.UNIVERSAL: (1, 1, 1, 1, 0, 0),
-    JointType.BALL: (1, 1, 1, 0, 0, 0),
-    JointType.FIXED: (1, 1, 1, 1, 1, 1),
-    JointType.SLIDER: (0, 1, 1, 1, 1, 1),
-}
-
 
 def box_inertia(mass, size):
     """(3, 3) inertia of a solid box of full edge lengths ``size`` about its centre [kg m^2]."""
@@ -516,6 +508,4 @@ class Builder:
     # ---- build ----------------------------------------------------------------------
     def build(self, dtype=jnp.float32):
         """Compile the declarations into ``(Model, State)`` with float arrays of ``dtype``."""
-        from thesis.physics.tables import build_model  # local: keeps this module short
-
         return build_model(self, dtype)

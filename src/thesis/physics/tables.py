@@ -1,6 +1,7 @@
 """Assemble the builder's declarations into static index tables and parameter arrays.
 
-Internal to ``builder.py`` (split off to keep modules short). Everything constant over a
+Called by :meth:`thesis.physics.builder.Builder.build`, whose declarations it reads from
+the builder it is given; it imports nothing of ``builder.py``. Everything constant over a
 simulation -- body indices of every row, joint frames in body coordinates, rest relative
 rotations, the contact-pair list -- is computed here once, in numpy, so the traced step
 only does dense, static-shaped arithmetic.
@@ -12,7 +13,17 @@ import numpy as np
 import jax.numpy as jnp
 
 from thesis.physics.types import DofKind, JointType, Model, State
-from thesis.physics.builder import _ROW_MASK
+
+#: Which of a joint's six equality rows (3 linear, 3 angular, in the joint frame) each
+#: joint type keeps: a hinge frees one rotation, a universal joint two, a ball three, a
+#: slider one translation, a fixed joint nothing (``Model.joint_row_mask``).
+_ROW_MASK = {
+    JointType.HINGE: (1, 1, 1, 0, 1, 1),
+    JointType.UNIVERSAL: (1, 1, 1, 1, 0, 0),
+    JointType.BALL: (1, 1, 1, 0, 0, 0),
+    JointType.FIXED: (1, 1, 1, 1, 1, 1),
+    JointType.SLIDER: (0, 1, 1, 1, 1, 1),
+}
 
 
 def _arr(x, shape, dtype):

@@ -18,8 +18,9 @@ outcome the twin changed (their ``flipped`` variable). :func:`twin_verdicts_md` 
 claim decided again on twin runs with its verdict on each (method section).
 
 Beside it, :func:`optional_runs` says which of the runs outside ``make all`` (the twin
-runs, Tab. 5.3's protocol variants, the MuJoCo/MJX peers, the Oncilla's model checks)
-are on disk, with the command that makes each. The README points here instead of
+runs, Tab. 5.3's protocol variants, the MuJoCo/MJX peers, chapter 2's width pilot and
+training-step bench, the Oncilla's model checks) are on disk, with the command that makes
+each. The README points here instead of
 quoting results (issue: results only where the pipeline writes them).
 """
 
@@ -262,6 +263,9 @@ def optional_runs(results: Mapping[str, xr.Dataset], decided: Mapping,
          have("ch5/table5_3_blocks", "ch5/table5_3_parts")),
         ("Tab. 7.1's MuJoCo/MJX peers", f"snakemake ch7_table7_1_peers {cfg} --cores 2",
          have("ch7/table7_1_peers")),
+        ("chapter 2's width pilot and training-step bench (the measurements behind the "
+         "profile's ch2 sizes)", f"snakemake ch2_pilot {cfg} --cores 2",
+         have("ch2/width_pilot", "ch2/train_step")),
         ("the simulated Oncilla's model checks (section 'model')",
          f"thesis bench oncilla --profile {profile}", have("model/oncilla")),
     ]

@@ -1,9 +1,11 @@
-"""Chapter 2 in the report: Tab. 2.2 (thesis beside reproduced), training curves, scaling.
+"""Chapter 2 in the report: Tab. 2.2 (thesis beside reproduced), training curves, scaling,
+and the measurements behind the chapter's configured sizes.
 
 Reads ``ch2/table2_2`` (test_error over model x d x transform x seed, valid_error over
-epoch) and ``ch2/chirpz_scaling`` (median times over layer x pass x size). Every number
-shown is read from those datasets or from :mod:`thesis.paper`; a missing dataset shows
-"not run".
+epoch), ``ch2/chirpz_scaling`` (median times over layer x pass x size) and, when
+present, ``ch2/width_pilot`` and ``ch2/train_step`` (:mod:`thesis.report.pilots`). Every
+number shown is read from those datasets or from :mod:`thesis.paper`; a missing dataset
+shows "not run".
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from thesis import paper
+from thesis.report import pilots
 from thesis.report.format import mean_interval_text
 from thesis.report.model import NOT_RUN, Figure, Table
 
@@ -47,7 +50,8 @@ def _reproduced(ds, model: str, d: int, t: str) -> str:
 
 def tables(results: dict) -> list[Table]:
     """Tab. 2.2: per-digit test error [%] per (model, d) row and transform, thesis value
-    beside the reproduced mean over seeds with its 95 % Student t interval."""
+    beside the reproduced mean over seeds with its 95 % Student t interval; then the width
+    pilot's and the training-step bench's tables (:func:`thesis.report.pilots.tables`)."""
     ds = results.get("ch2/table2_2")
     columns = ["model"]
     for t in TRANSFORMS:
@@ -74,7 +78,8 @@ def tables(results: dict) -> list[Table]:
                 "(other rows: not run). 'no spatial' has no down-sampling and is "
                 "trained once per model and seed, shown in every d row (thesis: ditto marks).")
     return [Table(id="table2_2", title="Per-digit test error on cluttered MNIST sequences",
-                  thesis_ref="Tab. 2.2", columns=columns, rows=rows, note=note)]
+                  thesis_ref="Tab. 2.2", columns=columns, rows=rows, note=note),
+            *pilots.tables(results)]
 
 
 def _epoch_size(attrs) -> str:

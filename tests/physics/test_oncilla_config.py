@@ -1,0 +1,68 @@
+"""thesis.physics.models.oncilla_config: the one config -> Oncilla adapter builds, for every
+caller (ch3 gaits, ch4 conditions with the safety thread, ch6 sweeps) and the smoke and
+default profiles, the model that ``oncilla()`` gives with the keyword arguments those
+callers spelled out by hand, leaf for leaf and bit for bit."""
+
+import jax
+import numpy as np
+import pytest
+
+from thesis.config import load_config
+from thesis.embodied import sweep as S
+from thesis.gaits import conditions as C
+from thesis.gaits import experiments as E
+from thesis.physics.models.oncilla import oncilla
+from thesis.physics.models.oncilla_config import oncilla_kwargs
+
+
+def _by_hand(ch: str, cfg: dict) -> dict:
+    """The ``oncilla()`` arguments each chapter's own adapter passed (ch3 and ch4: the
+    solver and knee spring; ch4 also the tether; ch6 also the constraint softness)."""
+    m = cfg["model"]
+    cr = m.get("contact_relaxation")
+    kw = dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
+              knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
+              relaxation=float(m["relaxation"]), sweep_order=str(m["sweep_order"]),
+              contact_relaxation=None if cr is None else float(cr))
+    if ch == "ch6":
+        kw.update(joint_hz=float(m["joint_hz"]), contact_hz=float(m["contact_hz"]))
+    if ch == "ch4":
+        t = cfg["tether"]
+        kw.update(tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
+                  tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
+                  tether_width=float(t["width"]))
+    return kw
+
+
+def _assert_same(got, want):
+    (gl, gt), (wl, wt) = (jax.tree_util.tree_flatten(x) for x in (got, want))
+    assert gt == wt  # the static metadata (topology, names) too
+    assert len(gl) == len(wl)
+    for i, (g, w) in enumerate(zip(gl, wl)):
+        g, w = np.asarray(g), np.asarray(w)
+        assert g.dtype == w.dtype and g.shape == w.shape, i
+        np.testing.assert_array_equal(g, w, err_msg=f"leaf {i}")
+
+
+CALLERS = {"ch3": E.model_of, "ch4": C.base_model, "ch6": S.model_of}
+
+
+@pytest.mark.parametrize("profile", ["smoke", "default"])
+@pytest.mark.parametrize("ch", ["ch3", "ch4", "ch6"])
+def test_every_caller_builds_the_model_its_keys_spell(profile, ch):
+    cfg = load_config(profile)[ch]
+    want = _by_hand(ch, cfg)
+    tether = cfg["tether"] if ch == "ch4" else None
+    assert oncilla_kwargs(cfg["model"], tether) == want
+    _assert_same(CALLERS[ch](cfg), oncilla(**want))
+
+
+def test_a_changed_key_changes_the_model():
+    """The adapter reads the keys (a different spring or softness is another model)."""
+    m = dict(load_config("smoke")["ch6"]["model"])
+    base = oncilla_kwargs(m)
+    assert oncilla_kwargs({**m, "knee_spring": 3.0})["knee_spring"] == 3.0
+    assert oncilla_kwargs({**m, "joint_hz": 50.0})["joint_hz"] == 50.0
+    assert "joint_hz" not in oncilla_kwargs({k: v for k, v in m.items() if k != "joint_hz"})
+    assert base["contact_relaxation"] is None
+    assert oncilla_kwargs({**m, "contact_relaxation": 0.3})["contact_relaxation"] == 0.3
