@@ -74,7 +74,7 @@ def test_combined_parts_are_grouped_in_words():
 def test_method_section_shows_the_power_table_and_says_when_missing():
     power = calibration.power_table(reps=50, ns=(3, 5), effects=(1.0,), rates=(0.9,),
                                     rate_ns=(5, 40), works_rates=(0.6,), fails_rates=(0.2,),
-                                    failure_ns=())
+                                    failure_ns=(), existence_ns=())
     page = V.method_html(power)
     assert 'id="method"' in page and "Student t" in page
     assert "A beats B" in page and "advantage of 1 sd" in page and "in most runs" in page

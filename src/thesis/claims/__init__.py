@@ -104,8 +104,9 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
         if not names or key in twinned:
             continue
         swapped = ds.copy()
-        for n in names:
+        for n in names:  # both ways: on the view, the original run is the twin's twin
             swapped[n.removesuffix(TWIN_SUFFIX)] = ds[n]
+            swapped[n] = ds[n.removesuffix(TWIN_SUFFIX)]
         view[key] = swapped
         twinned.add(key)
     return view, twinned

@@ -502,17 +502,17 @@ def pendulum_found(results: Results) -> Verdict:
     m = v.measured
     k, n = int(m.get("n_success", 0)), int(m.get("n_seeds", 0))
     censored = int(m.get("n_censored", 0))
-    statistic = ("existence: number of seeds that swing up and balance within 2x the "
-                 "thesis's episodes (at least one needed)")
+    found = stats.decide_exists([1.0] * k + [0.0] * (n - k), label="found")
+    m = {**m, **{k_: x for k_, x in found.measured.items() if k_ not in m}}
+    statistic = ("a seed swings up and balances within 2x the thesis's episodes; "
+                 + found.statistic)
     if k and float(m.get("test_s", 0.0)) < MINUTE_S:
         return stats.untestable([f"test run of {m['test_s']:g} s; the thesis's controller "
                                  "kept the pendulum up for more than one minute"], m, statistic)
-    if k:
-        return Verdict("reproduced", m, statistic, f"found on {k} of {n} seeds")
-    if censored or n < stats.MIN_SEEDS:
+    if found.status == "not_reproduced" and censored:
         return Verdict("inconclusive", m, statistic,
                        f"no seed succeeded; {censored} of {n} stopped before the limit")
-    return Verdict("not_reproduced", m, statistic, f"none of {n} seeds succeeded")
+    return Verdict(found.status, m, statistic, found.detail)
 
 
 def gait_found(results: Results) -> Verdict:

@@ -33,3 +33,7 @@ ROUGHLY = 2.0
 #: tie of every seed is what a discrete law gives, not a law without spread, and the sign
 #: test's smallest one-sided p, 2^-n, reaches :data:`ONE_SIDED` only from 6 seeds on.
 TIE_MIN_SEEDS = int(np.ceil(np.log2(1.0 / ONE_SIDED)))
+#: The largest rate at which one run passes a success criterion by chance (an outcome drawn
+#: at the rounding level, chapter 6's own config comment): an existential sentence must
+#: show more events than runs passing at this rate would give (rule 10).
+SPURIOUS_RATE = 0.05

@@ -42,7 +42,10 @@ Rules (applied uniformly by the decision helpers below):
    half the time and the interval trusts them), and "A beats a never-failing B of the
    same mean" in 30 %, 28 % and 10 % (400 draws per cell).
    So the t interval of rules 4-6 and 9 *assumes runs without a failure mode*; a check
-   whose runs can fail passes its failure indicator and is decided by rule 3b.
+   whose runs can fail passes its failure indicator and is decided by rule 3b. The
+   calibration keeps this visible: with 10-30 % of seeds at an unflagged second mode,
+   rule 4 said "reproduced" in 5-33 %, rule 6 "above" in 4-46 % and rule 9 "not worse"
+   in 4-12 % of samples at 3-10 seeds (rules 5, 6 "below" and 9 "better" held).
 3b. **Runs that fail** (``failed=``: one flag per seed, the chapter's own indicator: fell,
    at chance, diverged; ``failure_bounds=``: the range a failed run's value can take). The
    failure rate and the runs that worked are decided separately
@@ -84,6 +87,12 @@ Rules (applied uniformly by the decision helpers below):
 7. **Comparisons with a published number** allow a relative tolerance of
    :data:`PUBLISHED_TOLERANCE` (25 %); **counts of evaluations or updates** allow a
    factor :data:`BUDGET_FACTOR` (2) over the thesis's count (:func:`decide_within_budget`).
+   "Reached within the budget" is what the method does as a rule, so its seeds are read
+   as rule 10's majority: reproduced when the successes show a rate above 1/2 (a
+   censored seed counts as a failure there, as a success in the mirror test). Reading
+   "every seed succeeded" instead said "reproduced" at a true rate of 1/2 in 12.5 % of
+   3-seed samples (calibration: 12-13 %; now 0 % at 3 and 5 seeds, which cannot show a
+   majority, about 1 % at 10).
 8. **Timings** are measurements, not seeded outcomes: :func:`decide_measurement` compares
    the median over repeats with the bound, without an interval; "roughly a factor F"
    (:func:`decide_roughly`) is a band from F / :data:`ROUGHLY` to F x :data:`ROUGHLY`.
@@ -115,9 +124,16 @@ Rules (applied uniformly by the decision helpers below):
     not_reproduced when the mirror test says the rate is below 1/2, inconclusive
     otherwise. With 5 seeds or fewer even n of n cannot reach the level (2^-n > 2.5 %):
     inconclusive, and the reason says so. **"It happened"** (an existential sentence,
-    :func:`decide_exists`): reproduced when at least one seed shows the event (a found
-    object is found whatever the rate), not_reproduced when none of at least
-    :data:`MIN_SEEDS` does; the count k of n is in the detail. **"A configuration works /
+    :func:`decide_exists`): an event counts on a seed only when it repeats, in the seed's
+    perturbed twin run or the claim's own re-evaluation (``replicated=``); reproduced when
+    more seeds show a counted event than runs that pass the success criterion by chance
+    at :data:`SPURIOUS_RATE` (5 %) would give (exact binomial test at :data:`ONE_SIDED`
+    against 5 % squared for repeated events, against 5 % for a claim without a
+    replication: :func:`exists_needs`, e.g. 1 of 5 and 2 of 40 repeated seeds, 2 of 3 and
+    6 of 40 unrepeated ones); not_reproduced when none of at least :data:`MIN_SEEDS` seeds
+    shows it; the count k of n is in the detail. One seed sufficing said "it happened"
+    with no event in 34-87 % of 40-seed samples at a spurious rate of 1-5 % (now at most
+    2.5 %, the calibration's false-existence rows). **"A configuration works /
     fails"** (:func:`judge_rate`, chapter 6): "works" needs the exact binomial test of its
     success rate against the rate of a configuration that fails at :data:`ONE_SIDED` and
     no such test against the rate of one that works; "fails" the mirror. From 26 seeds on
@@ -141,13 +157,15 @@ from thesis.claims.intervals import (  # noqa: F401
 )
 from thesis.claims.levels import (  # noqa: F401
     ALPHA, BOOTSTRAP_SEED, BUDGET_FACTOR, CONFIDENCE, INTERVAL_METHOD, MIN_SEEDS, N_RESAMPLES,
-    ONE_SIDED, PUBLISHED_TOLERANCE, ROUGHLY, RUN_CLAIMS, SMALL_A_EFFECT, TIE_MIN_SEEDS,
+    ONE_SIDED, PUBLISHED_TOLERANCE, ROUGHLY, RUN_CLAIMS, SMALL_A_EFFECT, SPURIOUS_RATE,
+    TIE_MIN_SEEDS,
 )
 from thesis.claims.rules.common import (  # noqa: F401
     _too_few, combine, first_reaching, per_seed, untestable,
 )
 from thesis.claims.rules.counts import (  # noqa: F401
-    decide_exists, decide_majority, decide_within_budget, judge_rate, rate_pvalues, reachable,
+    decide_exists, decide_majority, decide_within_budget, exists_needs, judge_rate, rate_pvalues,
+    reachable,
 )
 from thesis.claims.rules.means import (  # noqa: F401
     decide_any, decide_beats, decide_equivalent, decide_fewer_censored, decide_threshold,

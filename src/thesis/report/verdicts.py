@@ -265,8 +265,11 @@ def method_html(power: dict | None) -> str:
         "no difference, and rank or sign-flip tests cannot reach 2.5 % below 6 seeds. It "
         "assumes independent seeds and per-seed values (paired differences) roughly "
         "symmetric about their mean. 'In most runs' is an exact binomial test against "
-        "1/2 (5 seeds or fewer can never show it: inconclusive); an existential sentence "
-        "('an attractor was found') holds when one seed shows it, the rate beside it; a "
+        "1/2 (5 seeds or fewer can never show it: inconclusive), and so are sentences about "
+        "what a method usually does ('learns in', 'reached within N evaluations'); an "
+        "existential sentence ('an attractor was found') holds only when more seeds show "
+        "it, each repeated by its perturbed twin run, than runs passing by chance at 5 % "
+        "would give (without a twin, against 5 % itself), the rate beside it; a "
         "claim that holds when some configuration does corrects for looking at all of "
         "them (Holm); a claim about classification quality needs the methods to beat the "
         "test set's majority-class share first. Fewer than 3 seeds, or a profile smaller "
@@ -354,7 +357,10 @@ _RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
                "rule10_majority": "in most runs",
                "rate_works": "a configuration works (ch. 6)",
                "rate_fails": "a configuration fails (ch. 6)",
-               "rule6_failing_runs": "X above a bound, runs that fail (rule 3b)"}
+               "rule6_failing_runs": "X above a bound, runs that fail (rule 3b)",
+               "rule10_exists": "it happened (existence, repeated by its twin)",
+               "rule10_exists_spurious": "it happened, but no event exists (false "
+                                         "existence)"}
 
 
 def counts(claims: list[dict]) -> dict[str, int]:
