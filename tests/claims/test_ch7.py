@@ -57,9 +57,17 @@ ARM2_THESIS = {"n_params": 2107396, "batch": 128, "episode_s": 8.0}
 GAIT_THESIS = {"episode_s": 10.0, "n_params": 17952}
 
 
-def gait(final: float, n: int = 600, **attrs) -> xr.Dataset:
-    return curve("evaluation", n, final=final, start=0.0, tau=80.0, name="speed", rising=True,
-                 **{**GAIT_THESIS, **attrs})
+def gait(final: float, n: int = 600, upright=None, **attrs) -> xr.Dataset:
+    """The BPTT gait's speed curve; ``upright``: per-seed cos of the final gait's largest
+    spine tilt (``final_upright``, with the trot's 60-degree criterion), not recorded when
+    None."""
+    ds = curve("evaluation", n, final=final, start=0.0, tau=80.0, name="speed", rising=True,
+               **{**GAIT_THESIS, **attrs})
+    if upright is not None:
+        ds["final_upright"] = xr.DataArray(np.asarray(upright, float), dims=("seed",),
+                                           coords={"seed": ds["seed"]}, attrs={"units": "1"})
+        ds.attrs["max_tilt_deg"] = 60.0
+    return ds
 
 
 def check(claim_id: str, **results) -> claims.Verdict:
@@ -186,8 +194,8 @@ def test_quadruped_gait():
     # the hand-tuned 0.7 m/s is not the sentence's 1.17 m/s (less 25 %: 0.8775)
     v = check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(0.75))
     assert v.status == "not_reproduced" and v.measured["bound"] == 1.17 * 0.75
-    assert check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=gait(0.75)).status == (
-        "reproduced")
+    assert check("ch8.ch7_gait_in_500_evaluations",
+                 quadruped_gait=gait(0.75, upright=[1.0] * 3)).status == "reproduced"
     slow = gait(0.3)
     assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=slow).status == (
         "not_reproduced")
@@ -301,10 +309,25 @@ def test_conclusions_that_report_a_found_controller_are_existential():
                       episodes=10)
     assert check("ch8.ch7_pendulum_from_pixels", pendulum_pixels=short).status == (
         "inconclusive")
-    slow = gait(0.3)
+    slow = gait(0.3, upright=[1.0, 1.0, 1.0])
     slow["speed"][:2] = slow["speed"][:2] + 0.6  # two seeds reach 0.9 m/s
     v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=slow)
-    assert v.status == "reproduced" and v.measured["n_seeds_gait_at_least_hand_tuned"] == 2
+    assert v.status == "reproduced"
+    assert v.measured["n_seeds_stable_gait_at_least_hand_tuned"] == 2
+
+
+def test_a_stable_gait_is_not_speed_alone():
+    """§8.1 "a stable gait": fast seeds whose robot tipped over (spine tilted past the
+    hand-tuned trot's criterion) do not count, and without the tilt recorded the sentence
+    cannot be tested (before, speed alone reproduced it)."""
+    fast = gait(1.2)
+    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=fast)
+    assert v.status == "inconclusive" and "stability" in v.detail
+    tipped = gait(1.2, upright=[0.1, 0.2, 1.0])
+    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=tipped)
+    assert v.status == "inconclusive" and v.measured["n_seeds_at_least_hand_tuned_speed"] == 3
+    v = check("ch8.ch7_gait_in_500_evaluations", quadruped_gait=gait(1.2, upright=[1.0] * 3))
+    assert v.status == "reproduced"
 
 
 def _arm_fixed(cmaes_reached, gradient_reached, n_eval=60000, n_params=17284):
