@@ -22,7 +22,9 @@ from collections.abc import Mapping
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, model_validity, stats
+from thesis.claims import (
+    basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, kinds, model_validity, stats,
+)
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 #: How :meth:`Claim.check` begins the detail of a verdict whose results are absent.
@@ -129,7 +131,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
     ``isa_dependent``. Where the claim rests on the simulated Oncilla and the profile's
     model validation failed a target, ``model_validation``
-    (:func:`thesis.claims.model_validity.flag`)."""
+    (:func:`thesis.claims.model_validity.flag`). An inconclusive verdict carries
+    ``inconclusive_kind``: why, and what more compute would buy
+    (:func:`thesis.claims.kinds.classify`)."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     out = {
@@ -152,6 +156,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
             out[flag] = other.status != verdict.status
     out.update(model_validity.flag(claim.requires, results, verdict.status,
                                    claim.paper_keys))
+    kind = kinds.classify(out)
+    if kind is not None:
+        out["inconclusive_kind"] = kind
     return out
 
 
@@ -177,8 +184,10 @@ def mark_unreadable(verdict: dict[str, object],
         before = MISSING + before if before else ""
     if before:
         detail += "; " + before
-    return {**verdict, "status": "not_run", "reading": basis.reading("not_run", []),
-            "detail": detail, "unreadable": recs}
+    out = {**verdict, "status": "not_run", "reading": basis.reading("not_run", []),
+           "detail": detail, "unreadable": recs}
+    out.pop("inconclusive_kind", None)
+    return out
 
 
 def evaluate_all(results: Mapping[str, xr.Dataset], *,

@@ -273,7 +273,11 @@ def method_html(power: dict | None) -> str:
         "claim that holds when some configuration does corrects for looking at all of "
         "them (Holm); a claim about classification quality needs the methods to beat the "
         "test set's majority-class share first. Fewer than 3 seeds, or a profile smaller "
-        "than the thesis's setup, give <i>inconclusive</i>.</p>")
+        "than the thesis's setup, give <i>inconclusive</i>. Every inconclusive verdict "
+        "says why: its simulated model failed validation (the targets named), the profile "
+        "is smaller than the thesis's setup, it needs about N seeds (80 % power of its "
+        "rule at the measured effect, within the paper profile's seed count), or it is "
+        "ambiguous at any seed count the paper profile has.</p>")
     if not power or not power.get("rows"):
         return ('<h2 id="method">Method: how a verdict is decided</h2>' + text
                 + '<p class="notrun">power table not computed (run <code>thesis check</code>)'

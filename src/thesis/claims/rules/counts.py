@@ -102,7 +102,7 @@ def decide_exists(flags, *, label: str = "event", replicated=None,
                     else "") + f" at one-sided {ONE_SIDED:g}; the rate with its "
                  f"Clopper-Pearson {int(CONFIDENCE * 100)} % interval as context")
     measured = {"n_seeds": n, f"n_seeds_{label}": k_raw, "n_seeds_counted": k,
-                "n_seeds_needed": need, "rate": k_raw / n if n else np.nan,
+                "n_seeds_needed": need, "replicated": float(replicated is not None), "rate": k_raw / n if n else np.nan,
                 "rate_ci_low": lo, "rate_ci_high": hi}
     if n and k >= need:
         return Verdict("reproduced", measured, statistic,
