@@ -80,7 +80,9 @@ def test_method_section_shows_the_power_table_and_says_when_missing():
     assert "A beats B" in page and "advantage of 1 sd" in page and "in most runs" in page
     assert "a configuration works (ch. 6)" in page and "success rate 0.6" in page
     # header and one row per rule and truth: rules 4, 5, 10 and the rate rule's two
-    assert page.count("<tr>") == 1 + 5
+    assert page[page.index("<h3>Power"):].count("<tr>") == 1 + 5
+    # the decidability test's seed counts come before it, one row per sized claim
+    assert "Seeds a claim needs" in page and "ch7.arm_fixed_point_learned_quickly" in page
     assert [h for h in ("3 seeds", "5 seeds", "40 seeds") if h in page] == [
         "3 seeds", "5 seeds", "40 seeds"]
     # the rate rule was computed at 5 and 40 seeds, the others at 3 and 5: "—" elsewhere

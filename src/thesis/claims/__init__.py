@@ -23,7 +23,8 @@ import xarray as xr
 
 from thesis import paper
 from thesis.claims import (
-    basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, kinds, model_validity, stats,
+    basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, decidability, kinds, model_validity,
+    stats,
 )
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
@@ -159,6 +160,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     kind = kinds.classify(out)
     if kind is not None:
         out["inconclusive_kind"] = kind
+    sized = decidability.record(claim.id, claim.requires)
+    if sized is not None:
+        out["decidability"] = sized
     return out
 
 

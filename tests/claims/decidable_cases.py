@@ -1,0 +1,60 @@
+"""Thesis-shaped synthetic results at a chosen seed count, per claim: the finding at its
+published size (the chapters' test fixtures, whose means are the thesis's numbers) and
+the finding reversed. Used by ``test_decidability.py``."""
+
+from __future__ import annotations
+
+from . import test_ch2 as c2
+from . import test_ch3 as c3
+from . import test_ch7 as c7
+
+G = c2.GOOD
+REVERSED_CH2 = {"bilinear": 0.078, "bilinear_no_skew": 0.078, "chirp_z": 0.078, "none": 0.030}
+
+
+def _t32(n: int, changes: dict | None = None, **kw):
+    ds = c3.table3_2(seeds=n, **kw)
+    for (var, strategy), value in (changes or {}).items():
+        ds[var].loc[{"strategy": strategy}] = value
+    return {"ch3/table3_2": ds}
+
+
+def _ch2(means, n, **kw):
+    return {"ch2/table2_2": c2.table2_2(means, seeds=n, **kw)}
+
+
+#: claim id -> (finding at its published size, reversed finding), each a function of the
+#: number of seeds returning the results the claim reads.
+CASES = {
+    "ch2.spatial_transformers_beat_plain": (lambda n: _ch2(G, n),
+                                            lambda n: _ch2(REVERSED_CH2, n)),
+    "ch2.recurrent_beats_feedforward": (lambda n: _ch2(G, n, rnn_gain=0.005),
+                                        lambda n: _ch2(G, n, rnn_gain=-0.005)),
+    "ch2.chirpz_similar_to_bilinear_no_skew": (lambda n: _ch2(G, n),
+                                               lambda n: _ch2({**G, "chirp_z": 0.06}, n)),
+    "ch2.chirpz_reaches_1_8_percent": (lambda n: _ch2({**G, "chirp_z": 0.018}, n),
+                                       lambda n: _ch2({**G, "chirp_z": 0.037}, n)),
+    "ch3.half_ellipse_beats_sine_at_high_speed": (
+        lambda n: {"ch3/fig3_4": c3.fig3_4(seeds=n)},
+        lambda n: {"ch3/fig3_4": c3.fig3_4(seeds=n, sine_knee=10.0, ellipse_gain=0.1)}),
+    "ch3.spline_fastest": (lambda n: {"ch3/fig3_4": c3.fig3_4(seeds=n)},
+                           lambda n: {"ch3/fig3_4": c3.fig3_4(seeds=n, ellipse_gain=0.3)}),
+    "ch3.half_ellipse_most_robust": (
+        lambda n: {"ch3/robustness": c3.robustness([0.2, 0.9, 0.6], seeds=n)},
+        lambda n: {"ch3/robustness": c3.robustness([0.9, 0.3, 0.6], seeds=n)}),
+    "ch3.scapulae_needed_for_fast_turning": (lambda n: _t32(n),
+                                             lambda n: _t32(n, scap_speed=0.03)),
+    "ch3.scapulae_maintain_speed": (lambda n: _t32(n), lambda n: _t32(n, scap_speed=0.03)),
+    "ch3.turning_without_scapulae_possible": (
+        lambda n: _t32(n), lambda n: _t32(n, {("stable", "step_size"): 0.0})),
+    "ch7.arm_fixed_point_learned_quickly": (
+        lambda n: {"ch7/arm_fixed": c7.curve("evaluation", 300, final=0.002, start=0.5,
+                                             seeds=n, **c7.ARM1_THESIS)},
+        lambda n: {"ch7/arm_fixed": c7.curve("evaluation", 400, final=0.05, start=0.5,
+                                             seeds=n, **c7.ARM1_THESIS)}),
+    "ch7.scales_to_millions_of_parameters": (
+        lambda n: {"ch7/arm_random": c7.curve("update", 3000, final=0.01, start=0.5,
+                                              tau=400.0, seeds=n, **c7.ARM2_THESIS)},
+        lambda n: {"ch7/arm_random": c7.curve("update", 6000, final=0.2, start=0.5,
+                                              tau=400.0, seeds=n, **c7.ARM2_THESIS)}),
+}
