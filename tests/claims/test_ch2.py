@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from thesis import claims
@@ -252,3 +253,19 @@ def test_errors_are_reported_in_percent_like_the_thesis():
                           {"ch2/table2_2": table2_2(GOOD)})
     assert row["measured_units"]["error"] == "percent"
     np.testing.assert_allclose(row["measured"]["mean_error_chirp_z"], 3.45, atol=0.1)
+
+
+def test_a_failed_networks_range_comes_from_chance():
+    """Rule 3b's range of a failed seed's difference is what the failure is: a network at
+    chance errs on 9 of 10 digits within its binomial spread (n_test sequences), every
+    other cell beats chance, so no difference exceeds the chance error's upper quantile
+    (about 90.5 points for 10 000 test sequences), not +-100 points."""
+    from scipy import stats as sps
+
+    from thesis.claims import ch2
+
+    ds = {"ch2/table2_2": table2_2(GOOD)}
+    lo, hi = ch2.failed_advantage_bounds(ds)
+    assert lo == -hi and 90.0 < hi < 91.0
+    assert hi == pytest.approx(100 * sps.binom.isf(0.025, 10000, 0.9) / 10000)
+    assert not hasattr(ch2, "FAILED_ADVANTAGE_BOUNDS")

@@ -41,8 +41,8 @@ SEEDS_NEEDED: dict[str, int | None] = {
 
 _FAILED_NETS = ("networks can sit at chance, so the comparison is rule 3b's: with no "
                 "failure seen the failure rate may still be up to 77 % at 3 seeds and about "
-                "10 % at 40, each failed seed's difference anywhere in the declared +-100 "
-                "points")
+                "10 % at 40, each failed seed's difference anywhere within +-90.6 points "
+                "(a network at chance errs on 9 of 10 digits, within its binomial spread)")
 #: Claim id -> why it cannot be decided at the paper profile's seed count.
 UNTESTABLE: dict[str, str] = {
     "ch2.spatial_transformers_beat_plain": _FAILED_NETS + "; the thesis's 4.5-point "
