@@ -44,7 +44,7 @@ def table2_2(means: dict[str, float], *, seeds: int = 5, rnn_gain: float = 0.005
 GOOD = {"bilinear": 0.030, "bilinear_no_skew": 0.036, "chirp_z": 0.037, "none": 0.078}
 #: Errors far apart over many seeds: a comparison that can pass rule 3b's margin for
 #: failures not seen (at 40 seeds the failure rate may still be up to about 10 %, each
-#: failed seed's difference anywhere in +-100 points).
+#: failed seed's difference anywhere within +-90.6 points, chance's upper quantile).
 WIDE = {"bilinear": 0.030, "bilinear_no_skew": 0.036, "chirp_z": 0.037, "none": 0.30}
 MANY = 40
 
@@ -90,7 +90,7 @@ def test_networks_at_chance_are_failed_runs():
     still positive on average over all seeds, so the t interval (rule 3) says "spatial
     beats plain"; with the failures read as such (binomial test against chance, or the
     table's own ``failed`` flag) the failure rate may be up to 40 %, and a failed seed's
-    difference lies anywhere in +-100 points: inconclusive."""
+    difference lies anywhere within +-90.6 points (chance's upper quantile): inconclusive."""
     cid = "ch2.spatial_transformers_beat_plain"
     ds = _at_chance(table2_2(WIDE, seeds=MANY), range(8))
     v = status(cid, ds)
