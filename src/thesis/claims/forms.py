@@ -13,10 +13,11 @@ existential    "was found", "can", "is possible",      ``decide_exists``: reprod
                "we have shown that ... can"            more seeds show it, repeated by
                                                        their twin, than runs passing by
                                                        chance would give
-usual          what the method does as a rule:         a rate with an unclear band: "in
-               "learns in", "works", "fails"           most runs" (rule 10) or chapter 6's
-                                                       ``judge_rate`` (works / fails /
-                                                       unclear)
+usual          what the method does as a rule:         a majority shown: "in most runs"
+               "learns in", "works", "fails",          (rule 10), "reached within N"
+               "reached within N evaluations"          (rule 7) or chapter 6's
+                                                       ``judge_usual`` (a rate shown above
+                                                       / below 1/2, unclear between)
 some_config    it holds for some setting of a sweep    Holm over the settings
                                                        (``decide_any``, ``ch6.holm_works``)
 comparative    A beats / outperforms / is faster       rule 4, ``decide_beats``
@@ -39,8 +40,9 @@ from __future__ import annotations
 FORMS: dict[str, str] = {
     "existential": "stats.decide_exists: more seeds show it, repeated by their twin run, "
                    "than runs passing by chance at 5 % would give; rate beside it",
-    "usual": "a rate with an unclear band: stats.decide_majority (rule 10) or "
-             "stats.judge_rate (chapter 6: works / fails / unclear)",
+    "usual": "a majority shown: stats.decide_majority (rule 10), "
+             "stats.decide_within_budget (rule 7) or ch6.judge_usual (works / fails / "
+             "unclear against a rate of 1/2)",
     "some_config": "Holm's correction over the settings (stats.decide_any, ch6.holm_works)",
     "comparative": "rule 4, stats.decide_beats",
     "similar": "rule 5, stats.decide_equivalent (ratios on their logarithm)",
