@@ -113,8 +113,9 @@ def decide_exists(flags, *, label: str = "event", replicated=None,
                            f"{label} in none of only {n} seed(s); at least {MIN_SEEDS} are "
                            "needed")
         return Verdict("not_reproduced", measured, statistic, f"{label} in none of {n} seeds")
-    why = (f"{label} in {k_raw} of {n} seeds, {k} of them {rep}; existence needs at least "
-           f"{need} such seeds" if need <= n else
+    seen = (f"{label} in {k_raw} of {n} seeds, {k} of them repeated by their twin run"
+            if replicated is not None else f"{label} in {k_raw} of {n} seeds (unreplicated)")
+    why = (f"{seen}; existence needs at least {need} such seeds" if need <= n else
            f"{label} in {k_raw} of {n} seeds; {n} seeds cannot tell an event from runs "
            f"passing by chance at {spurious:g}")
     return Verdict("inconclusive", measured, statistic, why)
