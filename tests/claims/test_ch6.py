@@ -426,6 +426,13 @@ def test_a_verdict_the_perturbed_twins_move_is_fragile():
     flip = claims.evaluate(claim, {"ch6/trot": moved})
     # the twin does not repeat the one success: it does not count for existence
     assert flip["status"] == "inconclusive" and flip["fragile"] is True
+    assert flip["seeds_moved"]["ch6/trot:success"] == [1, SEEDS]
+    assert same["seeds_moved"]["ch6/trot:success"] == [0, SEEDS]
+    # the success moved to another seed: the verdict stays, the runs it rests on moved
+    shifted = ds.assign(success_perturbed=ds["success"].copy(data=[[0, 1, 0, 0, 0]]),
+                        outcome_perturbed=ds["outcome"])
+    v = claims.evaluate(claim, {"ch6/trot": shifted})
+    assert v["fragile"] is False and v["seeds_moved"]["ch6/trot:success"] == [2, SEEDS]
     assert flip["perturbed"]["status"] == "not_reproduced"
     plain = claims.evaluate(claim, {"ch6/trot": ds})
     assert "perturbed" not in plain and "fragile" not in plain

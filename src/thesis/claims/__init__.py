@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numpy as np
 import xarray as xr
 
 from thesis import paper
@@ -115,6 +116,26 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
     return view, twinned
 
 
+def seeds_moved(reads, results: Mapping[str, xr.Dataset]) -> dict[str, list[int]]:
+    """Per variable a claim reads that carries per-run twins (``<name>_perturbed``,
+    chapter 6), ``[runs whose twin moved the value, runs with both]``: fragility per
+    seed, beside the verdict's own (the verdict may stay while its successes move to other
+    seeds)."""
+    out = {}
+    for item in reads:
+        key, _, name = str(item).partition(":")
+        ds = results.get(key)
+        if ds is None or name not in ds.data_vars or name + TWIN_SUFFIX not in ds.data_vars:
+            continue
+        a = np.asarray(ds[name].values, float).ravel()
+        b = np.asarray(ds[name + TWIN_SUFFIX].values, float).ravel()
+        if a.shape != b.shape:
+            continue
+        both = np.isfinite(a) & np.isfinite(b)
+        out[item] = [int((both & (a != b)).sum()), int(both.sum())]
+    return out
+
+
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
              perturbed: tuple[Mapping[str, xr.Dataset], set] | None = None,
              native: tuple[Mapping[str, xr.Dataset], set] | None = None
@@ -130,7 +151,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     detail), and ``fragile`` (the two differ).
     Likewise, where every required result has a native twin run (``native``, a
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
-    ``isa_dependent``. Where the claim rests on the simulated Oncilla and the profile's
+    ``isa_dependent``. Where a variable it reads carries per-run twins, ``seeds_moved``
+    (:func:`seeds_moved`): the runs whose outcome the twin moved, per seed and not only
+    through the verdict. Where the claim rests on the simulated Oncilla and the profile's
     model validation failed a target, ``model_validation``
     (:func:`thesis.claims.model_validity.flag`). An inconclusive verdict carries
     ``inconclusive_kind``: why, and what more compute would buy
@@ -146,6 +169,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
     }
+    moved = seeds_moved(claim.reads, results)
+    if moved:
+        out["seeds_moved"] = moved
     twins = (("perturbed", "fragile", perturbed_view(results) if perturbed is None
               else perturbed), ("native", "isa_dependent", native))
     for name, flag, decided_on in twins:
