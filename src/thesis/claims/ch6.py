@@ -30,10 +30,11 @@ Decision rules (fixed before the default results were computed):
   and tested once per seed (its own hidden layer and training noise).
 * **One logic per sentence form** (:mod:`thesis.claims.forms` lists each claim's form):
   existential sentences ("an attractor was found", "can generate", "can be extended")
-  are decided as existence: at least one seed succeeds
-  (:func:`thesis.claims.stats.decide_exists`), the rate beside it; sentences about what
-  the method usually does ("learns in a couple of strides", "fails", "works") as rates
-  with the unclear band.
+  are decided as existence: enough seeds succeed in the run *and* its perturbed twin
+  (``success_perturbed``; :func:`thesis.claims.stats.decide_exists`: more than runs
+  passing by chance at 5 % would give), the rate beside it; sentences about what the
+  method usually does ("learns in a couple of strides", "fails" as a rule) as a majority
+  of seeds shown (:func:`judge_usual`, unclear between).
 * **Several configurations**: a claim that holds when *some* configuration of a sweep
   works corrects for looking at all of them: Holm's step-down over the configurations'
   binomial p-values (:func:`thesis.claims.stats.holm`).
