@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from . import test_ch2 as c2
 from . import test_ch3 as c3
+from . import test_ch6 as c6
 from . import test_ch7 as c7
 
 G = c2.GOOD
@@ -17,6 +18,21 @@ def _t32(n: int, changes: dict | None = None, **kw):
     for (var, strategy), value in (changes or {}).items():
         ds[var].loc[{"strategy": strategy}] = value
     return {"ch3/table3_2": ds}
+
+
+def _share(n: int, rate: float) -> int:
+    return int(round(rate * n))
+
+
+def _ch6(key: str, names, rates, n: int, **kw):
+    """A chapter-6 sweep with each config's success in a share ``rates`` of ``n`` seeds
+    (twins repeating each run)."""
+    return {f"ch6/{key}": c6.sweep(names, c6.rows(*(_share(n, r) for r in rates), seeds=n),
+                                  **kw)}
+
+
+STAGES = c6.STAGES
+HS = c6.HS
 
 
 def _ch2(means, n, **kw):
@@ -47,6 +63,32 @@ CASES = {
     "ch3.scapulae_maintain_speed": (lambda n: _t32(n), lambda n: _t32(n, scap_speed=0.03)),
     "ch3.turning_without_scapulae_possible": (
         lambda n: _t32(n), lambda n: _t32(n, {("stable", "step_size"): 0.0})),
+    # chapter 6 at the thesis's finding: the trot controller works (every seed), phase 1
+    # alone fails, a two-period stage works, linear feedback fails; reversed: the opposite
+    "ch6.trot_h50_b5_stable": (lambda n: _ch6("trot", ["h50_b5"], [1.0], n),
+                               lambda n: _ch6("trot", ["h50_b5"], [0.0], n)),
+    "ch6.phase1_only_fails": (
+        lambda n: _ch6("trot", ["h50_b5", "h50_b5_phase1_only"], [1.0, 0.0], n,
+                       role=["base", "phase1_only"]),
+        lambda n: _ch6("trot", ["h50_b5", "h50_b5_phase1_only"], [1.0, 1.0], n,
+                       role=["base", "phase1_only"])),
+    "ch6.learns_in_a_couple_of_strides": (
+        lambda n: _ch6("minimal_training", [f"stage{x:g}s" for x in STAGES],
+                       [0.0, 1.0, 1.0, 1.0, 1.0], n, hidden=[250] * 5, buffer=[0] * 5,
+                       stage=STAGES),
+        lambda n: _ch6("minimal_training", [f"stage{x:g}s" for x in STAGES],
+                       [0.0, 0.0, 1.0, 1.0, 1.0], n, hidden=[250] * 5, buffer=[0] * 5,
+                       stage=STAGES)),
+    "ch6.linear_feedback_insufficient": (
+        lambda n: {**_ch6("linear_feedback", ["linear"], [0.0], n, hidden=[0], buffer=[0]),
+                   **_ch6("trot", ["h50_b5"], [1.0], n)},
+        lambda n: {**_ch6("linear_feedback", ["linear"], [1.0], n, hidden=[0], buffer=[0]),
+                   **_ch6("trot", ["h50_b5"], [1.0], n)}),
+    "ch6.memoryless_feedback_trots": (
+        lambda n: _ch6("minimal_hidden", [f"h{h}_b0" for h in HS],
+                       [0, 0, 0.2, 0.8, 1, 1, 1], n, hidden=HS, buffer=[0] * 7),
+        lambda n: _ch6("minimal_hidden", [f"h{h}_b0" for h in HS], [0] * 7, n, hidden=HS,
+                       buffer=[0] * 7)),
     "ch7.arm_fixed_point_learned_quickly": (
         lambda n: {"ch7/arm_fixed": c7.curve("evaluation", 300, final=0.002, start=0.5,
                                              seeds=n, **c7.ARM1_THESIS)},
@@ -58,3 +100,5 @@ CASES = {
         lambda n: {"ch7/arm_random": c7.curve("update", 6000, final=0.2, start=0.5,
                                               tau=400.0, seeds=n, **c7.ARM2_THESIS)}),
 }
+CASES["ch8.ch6_stable_trot_in_few_periods_without_memory"] = CASES[
+    "ch6.learns_in_a_couple_of_strides"]
