@@ -102,3 +102,17 @@ CASES = {
 }
 CASES["ch8.ch6_stable_trot_in_few_periods_without_memory"] = CASES[
     "ch6.learns_in_a_couple_of_strides"]
+
+
+def _pend(n: int, found: bool):
+    held = [40] * n if found else [None] * n
+    up = [58.0] * n if found else [0.0] * n
+    to_up = [2.0] * n if found else [float("nan")] * n
+    return {"ch7/pendulum_pixels": c7._pendulum(held, up, to_up)}
+
+
+CASES["ch8.ch7_pendulum_from_pixels"] = (lambda n: _pend(n, True), lambda n: _pend(n, False))
+CASES["ch7.vision_control_learned_through_camera"] = CASES["ch8.ch7_pendulum_from_pixels"]
+CASES["ch8.ch7_gait_in_500_evaluations"] = (
+    lambda n: {"ch7/quadruped_gait": c7.gait(0.75, upright=[1.0] * n, seeds=n)},
+    lambda n: {"ch7/quadruped_gait": c7.gait(0.3, upright=[1.0] * n, seeds=n)})

@@ -149,20 +149,37 @@ def _paper_config() -> dict:
     return load_config("paper")
 
 
+def _seeds_at(cfg: dict, path: str) -> int | None:
+    """The seed count the config holds at dotted ``path`` (a ``seeds`` list there or in
+    the section it names), None when none."""
+    node = cfg
+    for part in path.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    if isinstance(node, dict):
+        node = node.get("seeds")
+    return len(node) if isinstance(node, (list, tuple)) else None
+
+
 def paper_seeds(requires) -> int | None:
     """The paper profile's seed count for the results a claim reads (the smallest over
-    them; ``ch7/arm_fixed`` reads ``ch7.arm_fixed.seeds``); None when none is known."""
+    them): the ``seeds`` of the config sections each result's experiment reads
+    (:func:`thesis.registry.reads`; ``ch7/pendulum_pixels`` reads ``ch7.pendulum``), else
+    of its chapter's section; None when none is known."""
+    from thesis import registry
+
     cfg, counts = _paper_config(), []
     for key in requires:
-        section, _, name = str(key).partition("/")
-        block = cfg.get(section)
-        if not isinstance(block, dict):
-            continue
-        sub = block.get(name)
-        seeds = sub.get("seeds") if isinstance(sub, dict) and "seeds" in sub else block.get(
-            "seeds")
-        if isinstance(seeds, (list, tuple)):
-            counts.append(len(seeds))
+        try:
+            paths = registry.reads(str(key))
+        except (KeyError, ValueError):
+            paths = ()
+        found = [n for n in (_seeds_at(cfg, p) for p in paths) if n is not None]
+        if not found:
+            n = _seeds_at(cfg, str(key).partition("/")[0])
+            found = [n] if n is not None else []
+        counts.extend(found[:1])
     return min(counts) if counts else None
 
 
