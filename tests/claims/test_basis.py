@@ -17,13 +17,15 @@ from thesis.config import load_config
 CLAIM = "ch7.arm_fixed_point_learned_quickly"
 
 
-def arm_fixed(config: dict | None, *, reached=(80, 120)) -> xr.Dataset:
-    """A fixed-target arm result that reaches 4 cm and 1 cm at ``reached`` on 3 seeds, with
-    the departure records of a run with ``config`` (None: a result that predates them)."""
+def arm_fixed(config: dict | None, *, reached=(80, 120), seeds: int = 6) -> xr.Dataset:
+    """A fixed-target arm result that reaches 4 cm and 1 cm at ``reached`` on 6 seeds (the
+    fewest that can show "within the budget" as a majority), with the departure records of
+    a run with ``config`` (None: a result that predates them)."""
     ev = np.arange(1, 301)
     d = np.where(ev < reached[0], 0.2, np.where(ev < reached[1], 0.03, 0.005))
-    ds = xr.Dataset({"distance": xr.DataArray(np.tile(d, (3, 1)), dims=("seed", "evaluation"),
-                                              coords={"seed": [0, 1, 2], "evaluation": ev},
+    ds = xr.Dataset({"distance": xr.DataArray(np.tile(d, (seeds, 1)),
+                                              dims=("seed", "evaluation"),
+                                              coords={"seed": np.arange(seeds), "evaluation": ev},
                                               attrs={"units": "m", "long_name": "distance"})},
                     attrs={"n_params": 17284, "episode_s": 8.0})
     if config is not None:
@@ -77,7 +79,8 @@ def test_a_result_that_predates_the_records_uses_the_declarations():
 
 
 def test_not_reproduced_and_not_run_readings():
-    slow = arm_fixed(load_config("default"), reached=(290, 299))
+    # 8 seeds: a majority of misses shown in both parts after Holm (2 x 2^-8)
+    slow = arm_fixed(load_config("default"), reached=(290, 299), seeds=8)
     assert verdict(slow)["reading"] == "not reproduced under a declared deviation"
     v = claims.evaluate(claims.get(CLAIM), {})
     assert v["reading"] == "not run" and v["departures"] == []

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from thesis import claims
@@ -43,7 +44,7 @@ def table2_2(means: dict[str, float], *, seeds: int = 5, rnn_gain: float = 0.005
 GOOD = {"bilinear": 0.030, "bilinear_no_skew": 0.036, "chirp_z": 0.037, "none": 0.078}
 #: Errors far apart over many seeds: a comparison that can pass rule 3b's margin for
 #: failures not seen (at 40 seeds the failure rate may still be up to about 10 %, each
-#: failed seed's difference anywhere in +-100 points).
+#: failed seed's difference anywhere within +-90.6 points, chance's upper quantile).
 WIDE = {"bilinear": 0.030, "bilinear_no_skew": 0.036, "chirp_z": 0.037, "none": 0.30}
 MANY = 40
 
@@ -89,7 +90,7 @@ def test_networks_at_chance_are_failed_runs():
     still positive on average over all seeds, so the t interval (rule 3) says "spatial
     beats plain"; with the failures read as such (binomial test against chance, or the
     table's own ``failed`` flag) the failure rate may be up to 40 %, and a failed seed's
-    difference lies anywhere in +-100 points: inconclusive."""
+    difference lies anywhere within +-90.6 points (chance's upper quantile): inconclusive."""
     cid = "ch2.spatial_transformers_beat_plain"
     ds = _at_chance(table2_2(WIDE, seeds=MANY), range(8))
     v = status(cid, ds)
@@ -252,3 +253,19 @@ def test_errors_are_reported_in_percent_like_the_thesis():
                           {"ch2/table2_2": table2_2(GOOD)})
     assert row["measured_units"]["error"] == "percent"
     np.testing.assert_allclose(row["measured"]["mean_error_chirp_z"], 3.45, atol=0.1)
+
+
+def test_a_failed_networks_range_comes_from_chance():
+    """Rule 3b's range of a failed seed's difference is what the failure is: a network at
+    chance errs on 9 of 10 digits within its binomial spread (n_test sequences), every
+    other cell beats chance, so no difference exceeds the chance error's upper quantile
+    (about 90.5 points for 10 000 test sequences), not +-100 points."""
+    from scipy import stats as sps
+
+    from thesis.claims import ch2
+
+    ds = {"ch2/table2_2": table2_2(GOOD)}
+    lo, hi = ch2.failed_advantage_bounds(ds)
+    assert lo == -hi and 90.0 < hi < 91.0
+    assert hi == pytest.approx(100 * sps.binom.isf(0.025, 10000, 0.9) / 10000)
+    assert not hasattr(ch2, "FAILED_ADVANTAGE_BOUNDS")

@@ -5,6 +5,7 @@ thesis.gaits.transfer_artifacts writes them: each claim once on data that suppor
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from thesis import claims
@@ -318,6 +319,15 @@ def test_pebbles_head_start_lost():
                  fig4_8=fig4_8(0.4, 0.0)).status == "reproduced"
     assert check("ch4.pebbles_head_start_lost",
                  fig4_8=fig4_8(-0.15, 0.0)).status == "not_reproduced"
+
+
+def test_a_head_start_kept_throughout_is_not_lost():
+    """"This head start is quickly lost": transferred particles that outscore the random
+    ones in every generation (A = 1 throughout) have not lost it (before, the test of
+    "smaller later" read a constant A of 1 as inconclusive)."""
+    v = check("ch4.pebbles_head_start_lost", fig4_8=fig4_8(5.0, 5.0))
+    assert v.status == "not_reproduced", v.detail
+    assert v.measured["head_start_lost.A12_second_half_minus_half_mean"] == pytest.approx(0.5)
 
 
 def test_pebbles_head_start_needs_every_original_particle():

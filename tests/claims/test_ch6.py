@@ -14,22 +14,26 @@ SEEDS = 5
 
 
 def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
-          outcome=None, curve=None, period=0.588, running=30.0, role=None) -> xr.Dataset:
-    """A sweep dataset: ``success`` (n_config, SEEDS) 0/1, per-config H, B, stages."""
+          outcome=None, curve=None, period=0.588, running=30.0, role=None,
+          twins=True) -> xr.Dataset:
+    """A sweep dataset: ``success`` (n_config, seeds) 0/1, per-config H, B, stages; with
+    ``twins``, each run's perturbed twin repeats its outcome (``success_perturbed``)."""
     n = len(configs)
-    success = np.asarray(success, float).reshape(n, SEEDS)
+    success = np.asarray(success, float).reshape(n, -1)
+    seeds = success.shape[1]
     hidden = np.asarray(hidden if hidden is not None else [50] * n)
     buffer = np.asarray(buffer if buffer is not None else [5] * n)
     stage = np.asarray(stage if stage is not None else [10.0] * n, float)
-    mse = np.asarray(mse if mse is not None else np.full((n, SEEDS), 0.01), float)
+    mse = np.asarray(mse if mse is not None else np.full((n, seeds), 0.01), float)
     if outcome is None:
         outcome = np.where(success == 1, "stable", "erratic")
     if curve is None:
         t = np.arange(0, 20, 0.05)
         curve = 0.5 * np.exp(-t / 0.3) + 0.002
     t = np.arange(np.shape(curve)[-1]) * 0.05
-    c = np.broadcast_to(curve, (n, SEEDS, t.size))
+    c = np.broadcast_to(curve, (n, seeds, t.size))
     dims = ("config", "seed")
+    twin = dict(success_perturbed=(dims, success, dict(units="1"))) if twins else {}
     return xr.Dataset(
         dict(success=(dims, success, dict(units="1")),
              outcome=(dims, np.asarray(outcome, str), dict(units="1")),
@@ -38,14 +42,15 @@ def sweep(configs, success, *, hidden=None, buffer=None, stage=None, mse=None,
              hidden=(("config",), hidden), buffer=(("config",), buffer),
              n_signals=(("config",), (buffer + 1) * hidden + 1),
              stage1_seconds=(("config",), stage), gait_period=(("config",), np.full(n, period)),
-             role=(("config",), np.array(role if role is not None else ["base"] * n))),
-        coords=dict(config=list(configs), seed=np.arange(SEEDS), train_time=t),
+             role=(("config",), np.array(role if role is not None else ["base"] * n)),
+             **twin),
+        coords=dict(config=list(configs), seed=np.arange(seeds), train_time=t),
         attrs=dict(protocol_running=running))
 
 
-def rows(*rates):
-    """Success rows with the given number of successful seeds out of 5."""
-    return [[1.0] * k + [0.0] * (SEEDS - k) for k in rates]
+def rows(*rates, seeds=SEEDS):
+    """Success rows with the given number of successful seeds out of ``seeds``."""
+    return [[1.0] * k + [0.0] * (seeds - k) for k in rates]
 
 
 def check(claim_id, **res):
@@ -65,18 +70,26 @@ def test_trot_stable_is_existential():
     assert check("ch6.trot_h50_b5_stable", trot=few).status == "inconclusive"
 
 
-def trot_with(base, phase1, offs=(), **kw):
-    """A trot dataset: base, phase-1-only and power-off configs (success counts of 5)."""
+def trot_with(base, phase1, offs=(), seeds=SEEDS, **kw):
+    """A trot dataset: base, phase-1-only and power-off configs (success counts of
+    ``seeds``)."""
     names = ["h50_b5", "h50_b5_phase1_only"] + [f"h50_b5_off{t:g}s" for t, _ in offs]
     roles = ["base", "phase1_only"] + ["power_off"] * len(offs)
-    return sweep(names, rows(base, phase1, *(k for _, k in offs)), role=roles, **kw)
+    return sweep(names, rows(base, phase1, *(k for _, k in offs), seeds=seeds), role=roles,
+                 **kw)
 
 
 def test_phase1_only():
-    assert check("ch6.phase1_only_fails", trot=trot_with(5, 0)).status == "reproduced"
-    assert check("ch6.phase1_only_fails", trot=trot_with(5, 4)).status == "not_reproduced"
-    v = check("ch6.phase1_only_fails", trot=trot_with(0, 0))
+    """What stage 1 alone does as a rule, against both stages: majorities of seeds, which
+    5 seeds cannot show (2^-5 > 2.5 %) and 10 seeds can (9 or 10 of 10)."""
+    assert check("ch6.phase1_only_fails", trot=trot_with(10, 0, seeds=10)).status == (
+        "reproduced")
+    assert check("ch6.phase1_only_fails", trot=trot_with(10, 9, seeds=10)).status == (
+        "not_reproduced")
+    v = check("ch6.phase1_only_fails", trot=trot_with(0, 0, seeds=10))
     assert v.status == "inconclusive" and "stage 2" in v.detail
+    v = check("ch6.phase1_only_fails", trot=trot_with(5, 0))
+    assert v.status == "inconclusive" and "5 seeds cannot show" in v.detail
     # the base, not a power-off variant, decides the trot claim
     assert check("ch6.trot_h50_b5_stable",
                  trot=trot_with(4, 0, offs=[(4.0, 0)])).status == "reproduced"
@@ -155,9 +168,14 @@ STAGES = [0.59, 1.18, 2.36, 4.72, 10.0]
 
 
 def test_couple_of_strides_and_ch8():
+    """"Learns in a couple of strides" is what the method does as a rule: a short stage
+    must work for a majority of seeds, shown (10 of 10 at 1.18 s passes Holm over the two
+    short stages: p = 2^-10); §8.1's summary gets the same verdict on the same runs."""
     names = [f"stage{s:g}s" for s in STAGES]
-    good = sweep(names, rows(0, 4, 5, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
-    bad = sweep(names, rows(0, 0, 3, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
+    good = sweep(names, rows(0, 10, 10, 10, 10, seeds=10), hidden=[250] * 5, buffer=[0] * 5,
+                 stage=STAGES)
+    bad = sweep(names, rows(0, 1, 6, 10, 10, seeds=10), hidden=[250] * 5, buffer=[0] * 5,
+                stage=STAGES)
     for cid in ("ch6.learns_in_a_couple_of_strides",
                 "ch8.ch6_stable_trot_in_few_periods_without_memory"):
         c = claims.get(cid)
@@ -169,18 +187,18 @@ def test_couple_of_strides_and_ch8():
                  minimal_training=long_only).status == "inconclusive"
 
 
-def test_section_8_1_few_periods_is_existential():
-    """§8.1's "we demonstrated that in as little as a couple of periods ... already finds
-    stable parameters" is existential: one seed of five trotting with a short stage
-    reproduces it, while §6.7's "learns in a couple of strides" (a rate) does not pass
-    on the same sweep."""
+def test_section_8_1_few_periods_is_the_chapter_finding():
+    """§8.1's "in as little as a couple of periods ... already finds stable parameters"
+    summarises §6.7's "learns in a couple of strides": one finding, one verdict. One seed
+    of ten trotting with a short stage (18 of 40 before: 45 %) reproduces neither."""
     names = [f"stage{s:g}s" for s in STAGES]
-    one = sweep(names, rows(0, 1, 5, 5, 5), hidden=[250] * 5, buffer=[0] * 5, stage=STAGES)
-    v = check("ch8.ch6_stable_trot_in_few_periods_without_memory", minimal_training=one)
-    assert v.status == "reproduced" and "1 of 5" in v.detail
-    assert v.measured["rate"] == pytest.approx(0.2)
-    assert check("ch6.learns_in_a_couple_of_strides",
-                 minimal_training=one).status != "reproduced"
+    for one in (sweep(names, rows(0, 1, 10, 10, 10, seeds=10), hidden=[250] * 5,
+                      buffer=[0] * 5, stage=STAGES),
+                sweep(names, rows(0, 18, 40, 40, 40, seeds=40), hidden=[250] * 5,
+                      buffer=[0] * 5, stage=STAGES)):
+        v = check("ch8.ch6_stable_trot_in_few_periods_without_memory", minimal_training=one)
+        w = check("ch6.learns_in_a_couple_of_strides", minimal_training=one)
+        assert v.status == w.status != "reproduced" and v.detail == w.detail
     long_only = sweep(names[2:], rows(5, 5, 5), hidden=[250] * 3, buffer=[0] * 3,
                       stage=STAGES[2:])
     assert check("ch8.ch6_stable_trot_in_few_periods_without_memory",
@@ -323,19 +341,25 @@ def test_mse_drops_rapidly():
 
 
 def test_linear_feedback_needs_a_working_contrast():
-    """"Did not always return": some seed fails (existential); "not stable", against the
-    ELM controller: less often successful than the trot controller (Fisher exact)."""
-    ok = sweep(["linear"], rows(0), hidden=[0], buffer=[0],
-               outcome=[["erratic", "no_return", "erratic", "fallen", "dies_out"]])
-    trot = sweep(["h50_b5"], rows(5))
+    """"It was not stable": most seeds of linear feedback fail (rule 10 on the failures);
+    against the ELM controller: less often successful than the trot controller (Fisher
+    exact). Stable in 30 of 40 is not "not stable" (it was reproduced before: one
+    failing seed showed "not always")."""
+    ok = sweep(["linear"], rows(0, seeds=10), hidden=[0], buffer=[0],
+               outcome=[["erratic", "no_return", "erratic", "fallen", "dies_out"] * 2])
+    trot = sweep(["h50_b5"], rows(10, seeds=10))
     v = check("ch6.linear_feedback_insufficient", linear_feedback=ok, trot=trot)
-    assert v.status == "reproduced" and v.measured["n_erratic"] == 2
-    works = sweep(["linear"], rows(5), hidden=[0], buffer=[0])
+    assert v.status == "reproduced" and v.measured["n_erratic"] == 4
+    works = sweep(["linear"], rows(10, seeds=10), hidden=[0], buffer=[0])
     v = check("ch6.linear_feedback_insufficient", linear_feedback=works, trot=trot)
-    assert v.status == "not_reproduced" and "every seed" in v.detail
+    assert v.status == "not_reproduced" and "stable in most seeds" in v.detail
+    mostly = sweep(["linear"], rows(30, seeds=40), hidden=[0], buffer=[0])
+    v = check("ch6.linear_feedback_insufficient", linear_feedback=mostly,
+              trot=sweep(["h50_b5"], rows(38, seeds=40)))
+    assert v.status == "not_reproduced", v.detail
     # everything fails under this protocol: "insufficient" is not shown
     v = check("ch6.linear_feedback_insufficient", linear_feedback=ok,
-              trot=sweep(["h50_b5"], rows(1)))
+              trot=sweep(["h50_b5"], rows(1, seeds=10)))
     assert v.status == "inconclusive" and "contrast" in v.detail
     # 15 of 40 successes: 25 failures show "not always", and 15 of 40 against a trot
     # controller with 38 of 40 is "less often" (the rate rule alone read 15 of 40 as works)
@@ -391,7 +415,7 @@ def test_a_verdict_the_perturbed_twins_move_is_fragile():
     """Claims are decided on the runs and on their perturbed twins
     (:func:`thesis.claims.perturbed_view`): the same verdict is not fragile, a moved one
     is, and a result without twins carries no twin verdict."""
-    ds = sweep(["h50_b5"], rows(1))
+    ds = sweep(["h50_b5"], rows(1), twins=False)
     steady = ds.assign(success_perturbed=ds["success"], outcome_perturbed=ds["outcome"])
     moved = ds.assign(success_perturbed=ds["success"] * 0,
                       outcome_perturbed=ds["outcome"].copy(data=np.full((1, SEEDS), "erratic")))
@@ -400,7 +424,15 @@ def test_a_verdict_the_perturbed_twins_move_is_fragile():
     assert same["status"] == "reproduced" and same["fragile"] is False
     assert same["perturbed"]["status"] == "reproduced"
     flip = claims.evaluate(claim, {"ch6/trot": moved})
-    assert flip["status"] == "reproduced" and flip["fragile"] is True
+    # the twin does not repeat the one success: it does not count for existence
+    assert flip["status"] == "inconclusive" and flip["fragile"] is True
+    assert flip["seeds_moved"]["ch6/trot:success"] == [1, SEEDS]
+    assert same["seeds_moved"]["ch6/trot:success"] == [0, SEEDS]
+    # the success moved to another seed: the verdict stays, the runs it rests on moved
+    shifted = ds.assign(success_perturbed=ds["success"].copy(data=[[0, 1, 0, 0, 0]]),
+                        outcome_perturbed=ds["outcome"])
+    v = claims.evaluate(claim, {"ch6/trot": shifted})
+    assert v["fragile"] is False and v["seeds_moved"]["ch6/trot:success"] == [2, SEEDS]
     assert flip["perturbed"]["status"] == "not_reproduced"
     plain = claims.evaluate(claim, {"ch6/trot": ds})
     assert "perturbed" not in plain and "fragile" not in plain

@@ -70,11 +70,18 @@ def test_first_reaching_and_budget():
                          coords={"step": [10, 20, 30, 40]})
     reached = stats.first_reaching(curve, "step", 2.0)
     assert reached[0] == 30 and math.isnan(reached[1])
+    # "reached within the budget" is what the method does as a rule: a majority of seeds
+    # shown at 2.5 %, which 3 seeds cannot show (3 of 3 at a true rate of 1/2: 12.5 %)
     ok = stats.decide_within_budget([30, 20, 25], [40, 40, 40], budget=20, label="steps")
-    assert ok.status == "reproduced"
+    assert ok.status == "inconclusive" and "cannot show a majority" in ok.detail
+    six = stats.decide_within_budget([30, 20, 25, 10, 39, 40], [40] * 6, budget=20,
+                                     label="steps")
+    assert six.status == "reproduced" and six.measured["p_most"] == pytest.approx(2.0 ** -6)
     late = stats.decide_within_budget([np.nan, np.nan, 30], [50, 50, 50], budget=20,
                                       label="steps")
-    assert late.status == "not_reproduced" and late.measured["n_fail"] == 2.0
+    assert late.status == "inconclusive" and late.measured["n_fail"] == 2.0
+    missed = stats.decide_within_budget([np.nan] * 6, [50] * 6, budget=20, label="steps")
+    assert missed.status == "not_reproduced" and missed.measured["n_fail"] == 6.0
     censored = stats.decide_within_budget([np.nan, np.nan, 30], [20, 20, 40], budget=20,
                                           label="steps")
     assert censored.status == "inconclusive" and censored.measured["n_censored"] == 2.0
@@ -285,12 +292,24 @@ def test_decide_any_corrects_for_the_configurations():
 
 
 def test_decide_exists():
-    v = stats.decide_exists([0, 0, 1, 0, 0], label="found")
+    """An event counts only when it repeats in the seed's twin run, and existence needs
+    more such seeds than runs passing by chance at 5 % would give."""
+    v = stats.decide_exists([0, 0, 1, 0, 0], label="found", replicated=[0, 0, 1, 0, 0])
     assert v.status == "reproduced" and "1 of 5" in v.detail
     assert v.measured["rate_ci_low"] < 0.2 < v.measured["rate_ci_high"]
+    # the twin does not repeat it (the one success moved to another seed): not counted
+    moved = stats.decide_exists([0, 0, 1, 0, 0], replicated=[1, 0, 0, 0, 0])
+    assert moved.status == "inconclusive" and moved.measured["n_seeds_counted"] == 0
+    # without a replication, one of 5 is what runs passing at 5 % give in 23 % of draws
+    assert stats.decide_exists([0, 0, 1, 0, 0]).status == "inconclusive"
+    assert stats.decide_exists([0, 1, 1, 0, 0]).status == "reproduced"
     assert stats.decide_exists([0, 0, 0]).status == "not_reproduced"
     assert stats.decide_exists([0, np.nan]).status == "inconclusive"
-    assert stats.decide_exists([1]).status == "reproduced"
+    assert stats.decide_exists([1]).status == "inconclusive"
+    # 40 seeds: 1 replicated seed is no longer enough (q^2 = 0.25 %: P(K >= 1) = 9.5 %)
+    assert stats.exists_needs(40, replicated=True) == 2
+    assert stats.exists_needs(5, replicated=True) == 1
+    assert stats.exists_needs(40, replicated=False) == 6
 
 
 def test_judge_rate_and_reachability():

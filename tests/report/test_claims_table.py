@@ -74,13 +74,15 @@ def test_combined_parts_are_grouped_in_words():
 def test_method_section_shows_the_power_table_and_says_when_missing():
     power = calibration.power_table(reps=50, ns=(3, 5), effects=(1.0,), rates=(0.9,),
                                     rate_ns=(5, 40), works_rates=(0.6,), fails_rates=(0.2,),
-                                    failure_ns=())
+                                    failure_ns=(), existence_ns=())
     page = V.method_html(power)
     assert 'id="method"' in page and "Student t" in page
     assert "A beats B" in page and "advantage of 1 sd" in page and "in most runs" in page
     assert "a configuration works (ch. 6)" in page and "success rate 0.6" in page
     # header and one row per rule and truth: rules 4, 5, 10 and the rate rule's two
-    assert page.count("<tr>") == 1 + 5
+    assert page[page.index("<h3>Power"):].count("<tr>") == 1 + 5
+    # the decidability test's seed counts come before it, one row per sized claim
+    assert "Seeds a claim needs" in page and "ch7.arm_fixed_point_learned_quickly" in page
     assert [h for h in ("3 seeds", "5 seeds", "40 seeds") if h in page] == [
         "3 seeds", "5 seeds", "40 seeds"]
     # the rate rule was computed at 5 and 40 seeds, the others at 3 and 5: "—" elsewhere

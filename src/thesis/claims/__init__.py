@@ -19,10 +19,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numpy as np
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, model_validity, stats
+from thesis.claims import (
+    basis, ch2, ch3, ch4, ch5, ch6, ch7, ch8, coopt, decidability, kinds, model_validity,
+    stats,
+)
 from thesis.claims.types import NOT_IMPLEMENTED, STATUSES, Claim, LayoutError, Verdict
 
 #: How :meth:`Claim.check` begins the detail of a verdict whose results are absent.
@@ -104,11 +108,32 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
         if not names or key in twinned:
             continue
         swapped = ds.copy()
-        for n in names:
+        for n in names:  # both ways: on the view, the original run is the twin's twin
             swapped[n.removesuffix(TWIN_SUFFIX)] = ds[n]
+            swapped[n] = ds[n.removesuffix(TWIN_SUFFIX)]
         view[key] = swapped
         twinned.add(key)
     return view, twinned
+
+
+def seeds_moved(reads, results: Mapping[str, xr.Dataset]) -> dict[str, list[int]]:
+    """Per variable a claim reads that carries per-run twins (``<name>_perturbed``,
+    chapter 6), ``[runs whose twin moved the value, runs with both]``: fragility per
+    seed, beside the verdict's own (the verdict may stay while its successes move to other
+    seeds)."""
+    out = {}
+    for item in reads:
+        key, _, name = str(item).partition(":")
+        ds = results.get(key)
+        if ds is None or name not in ds.data_vars or name + TWIN_SUFFIX not in ds.data_vars:
+            continue
+        a = np.asarray(ds[name].values, float).ravel()
+        b = np.asarray(ds[name + TWIN_SUFFIX].values, float).ravel()
+        if a.shape != b.shape:
+            continue
+        both = np.isfinite(a) & np.isfinite(b)
+        out[item] = [int((both & (a != b)).sum()), int(both.sum())]
+    return out
 
 
 def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
@@ -126,9 +151,13 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
     detail), and ``fragile`` (the two differ).
     Likewise, where every required result has a native twin run (``native``, a
     :func:`replaced_view` of the native runs), ``native``: the verdict decided on it, and
-    ``isa_dependent``. Where the claim rests on the simulated Oncilla and the profile's
+    ``isa_dependent``. Where a variable it reads carries per-run twins, ``seeds_moved``
+    (:func:`seeds_moved`): the runs whose outcome the twin moved, per seed and not only
+    through the verdict. Where the claim rests on the simulated Oncilla and the profile's
     model validation failed a target, ``model_validation``
-    (:func:`thesis.claims.model_validity.flag`)."""
+    (:func:`thesis.claims.model_validity.flag`). An inconclusive verdict carries
+    ``inconclusive_kind``: why, and what more compute would buy
+    (:func:`thesis.claims.kinds.classify`)."""
     verdict = claim.check(results)
     deps = basis.claim_departures(claim.requires, results)
     out = {
@@ -140,6 +169,9 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
         **verdict.to_dict(), "reading": basis.reading(verdict.status, deps),
         "departures": deps,
     }
+    moved = seeds_moved(claim.reads, results)
+    if moved:
+        out["seeds_moved"] = moved
     twins = (("perturbed", "fragile", perturbed_view(results) if perturbed is None
               else perturbed), ("native", "isa_dependent", native))
     for name, flag, decided_on in twins:
@@ -151,6 +183,12 @@ def evaluate(claim: Claim, results: Mapping[str, xr.Dataset],
             out[flag] = other.status != verdict.status
     out.update(model_validity.flag(claim.requires, results, verdict.status,
                                    claim.paper_keys))
+    kind = kinds.classify(out)
+    if kind is not None:
+        out["inconclusive_kind"] = kind
+    sized = decidability.record(claim.id, claim.requires)
+    if sized is not None:
+        out["decidability"] = sized
     return out
 
 
@@ -176,8 +214,10 @@ def mark_unreadable(verdict: dict[str, object],
         before = MISSING + before if before else ""
     if before:
         detail += "; " + before
-    return {**verdict, "status": "not_run", "reading": basis.reading("not_run", []),
-            "detail": detail, "unreadable": recs}
+    out = {**verdict, "status": "not_run", "reading": basis.reading("not_run", []),
+           "detail": detail, "unreadable": recs}
+    out.pop("inconclusive_kind", None)
+    return out
 
 
 def evaluate_all(results: Mapping[str, xr.Dataset], *,

@@ -18,8 +18,11 @@ difference), for rules 4, 5 and 10, for chapter 6's "a configuration works / fai
 Laws (:data:`ALL_LAWS`): normal, exponential and Student t (2 df) (:data:`LAWS`);
 failure mixtures, 10, 20 and 30 % of runs near 0.2 and the rest near 1.0
 (:data:`FAILURE_LAWS`; the rules get each seed's failure flag, as a chapter passes its
-own: fell, at chance, diverged); discrete values, a count of 4 trials
-(:data:`DISCRETE_LAWS`). :func:`false_not_reproduced_combined` calibrates a multi-part
+own: fell, at chance, diverged), and the same mixtures without a flag
+(:data:`BIMODAL_LAWS`, rules 4, 5, 6 and 9); discrete values, a count of 4 trials
+(:data:`DISCRETE_LAWS`). Rule 7 (:func:`thesis.claims.stats.decide_within_budget`) is
+simulated at a per-seed success rate of one half, and existence
+(:func:`false_existence`) with no event and runs passing by chance at 1-5 %. :func:`false_not_reproduced_combined` calibrates a multi-part
 claim's "not reproduced" (:func:`thesis.claims.stats.combine`). ``thesis check`` writes it to
 ``results/<profile>/claims_power.json`` and the report shows it in its method section.
 
@@ -117,9 +120,17 @@ class FailureMixture:
         return self.draw(random_state, size)[0]
 
 
-#: Laws of runs that fail: 10, 20 and 30 % of runs near 0.2, the rest near 1.0.
+#: Laws of runs that fail: 10, 20 and 30 % of runs near 0.2, the rest near 1.0; the rules
+#: get each seed's failure flag.
 FAILURE_LAWS: dict[str, FailureMixture] = {
     f"fail{int(round(100 * r))}": FailureMixture(r) for r in (0.1, 0.2, 0.3)}
+#: The same mixtures without a flag (a second mode the chapter does not record: a
+#: classifier that stays at the majority share, a run that diverged or never improved):
+#: the rules see the values alone.
+BIMODAL_LAWS: dict[str, FailureMixture] = {
+    f"bimodal{int(round(100 * r))}": FailureMixture(r) for r in (0.1, 0.2, 0.3)}
+#: Both kinds of mixture.
+MIXTURE_LAWS: dict[str, FailureMixture] = {**FAILURE_LAWS, **BIMODAL_LAWS}
 #: Discrete per-seed values (a count of 4 trials: many ties, all seeds equal often):
 #: symmetric (Binomial(4, 0.5)) and skewed (Binomial(4, 0.8)).
 DISCRETE_LAWS: dict[str, sps.rv_discrete] = {
@@ -127,10 +138,10 @@ DISCRETE_LAWS: dict[str, sps.rv_discrete] = {
     "binomial4_0.8": sps.binom(4, 0.8),
 }
 #: Every law of the calibration, by name.
-ALL_LAWS = {**LAWS, **FAILURE_LAWS, **DISCRETE_LAWS}
+ALL_LAWS = {**LAWS, **MIXTURE_LAWS, **DISCRETE_LAWS}
 #: Rule 9's "not worse" null needs a continuous law (the shift to a given A12) or a
 #: failure mixture (the two runs' failure rates apart by twice the margin).
-NOT_WORSE_LAWS = (*LAWS, *FAILURE_LAWS)
+NOT_WORSE_LAWS = (*LAWS, *MIXTURE_LAWS)
 
 
 def _rng(*key: object) -> np.random.Generator:
@@ -145,7 +156,7 @@ def _draw(law: str, rng: np.random.Generator, shape) -> np.ndarray:
 
 def _draw_failed(law: str, rng: np.random.Generator, shape) -> tuple[np.ndarray, np.ndarray]:
     """(draws shifted to mean 0, failed flags) of ``ALL_LAWS[law]``; no run fails
-    outside :data:`FAILURE_LAWS`."""
+    outside :data:`MIXTURE_LAWS`."""
     dist = ALL_LAWS[law]
     if isinstance(dist, FailureMixture):
         x, failed = dist.draw(rng, shape)
@@ -156,8 +167,9 @@ def _draw_failed(law: str, rng: np.random.Generator, shape) -> tuple[np.ndarray,
 
 def _failure_kw(rules, fn: str, law: str, failed, bounds) -> dict:
     """``failed=`` and ``failure_bounds=`` for ``rules.<fn>`` under a failure law (the
-    chapter knows its failure indicator), when ``rules`` takes them (a version of the rules
-    without them runs without)."""
+    chapter knows its failure indicator; not under :data:`BIMODAL_LAWS`, whose second mode
+    nobody flags), when ``rules`` takes them (a version of the rules without them, as the
+    before-table's, runs without)."""
     if law not in FAILURE_LAWS or "failed" not in inspect.signature(
             getattr(rules, fn)).parameters:
         return {}
@@ -196,19 +208,19 @@ def _partner(law: str, rng: np.random.Generator, n: int) -> np.ndarray:
     """Method B of rules 4 and 5 under a failure law: runs that never fail, normal about
     the mixture's mean (0 after the shift) with its within-component sd: "A beats B" with
     the same mean, A's runs sometimes failing (the issue's probe)."""
-    return FAILURE_LAWS[law].sd * rng.standard_normal(n)
+    return MIXTURE_LAWS[law].sd * rng.standard_normal(n)
 
 
 def _difference_bounds(law: str, shift: float = 0.0) -> tuple[float, float]:
     """Declared range of A - B on a seed where A failed (B near the working value): a
     failed A loses at most the declared failure range's distance below a working run and
     gains at most its distance above a failed one."""
-    d = FAILURE_LAWS[law]
+    d = MIXTURE_LAWS[law]
     return (d.declared[0] - d.work + shift, d.declared[1] - d.fail + shift)
 
 
 def _null_beats(rules, law, n, rng):
-    if law in FAILURE_LAWS:
+    if law in MIXTURE_LAWS:
         a, fa = _draw_failed(law, rng, n)
         kw = _failure_kw(rules, "decide_beats", law, fa, _difference_bounds(law))
         return rules.decide_beats(a, _partner(law, rng, n), higher_is_better=True,
@@ -220,7 +232,7 @@ def _null_beats(rules, law, n, rng):
 
 def _null_equivalent(rules, law, n, rng):
     # true difference exactly at the margin: A's per-seed values one margin above B's
-    if law in FAILURE_LAWS:
+    if law in MIXTURE_LAWS:
         m = FAILURE_MARGIN
         a, fa = _draw_failed(law, rng, n)
         kw = _failure_kw(rules, "decide_equivalent", law, fa, _difference_bounds(law, m))
@@ -237,8 +249,8 @@ def _null_threshold(below: bool):
         # (the continuous laws' skew points up: the other way round)
         x, failed = _draw_failed(law, rng, n)
         kw = _discrete_kw(rules, "decide_threshold", law)
-        if law in FAILURE_LAWS:
-            d = FAILURE_LAWS[law]
+        if law in MIXTURE_LAWS:
+            d = MIXTURE_LAWS[law]
             kw = _failure_kw(rules, "decide_threshold", law, failed,
                              (d.declared[0] - d.mean(), d.declared[1] - d.mean()))
         return rules.decide_threshold(x, bound=0.0, below=below, **kw).status
@@ -263,7 +275,7 @@ def _failing_runs(law: str, rng: np.random.Generator, n: int, rate_a: float, rat
     """(a, b, failed) particle scores (n, G, N) of two runs per seed under a failure law:
     a seed's run of A fails with probability ``rate_a`` (then every particle scores near
     the failure value), B's with ``rate_b``; ``failed``: either run of the seed failed."""
-    d = FAILURE_LAWS[law]
+    d = MIXTURE_LAWS[law]
     shape = (n, RUN_GENERATIONS, RUN_PARTICLES)
     fa, fb = rng.random(n) < rate_a, rng.random(n) < rate_b
     a = np.where(fa[:, None, None], d.fail, d.work) + d.sd * rng.standard_normal(shape)
@@ -276,8 +288,8 @@ EFFECT_BOUNDS = (-0.5, 0.5)
 
 
 def _null_runs_better(rules, law, n, rng):
-    if law in FAILURE_LAWS:
-        rate = FAILURE_LAWS[law].rate
+    if law in MIXTURE_LAWS:
+        rate = MIXTURE_LAWS[law].rate
         a, b, failed = _failing_runs(law, rng, n, rate, rate)
         kw = _failure_kw(rules, "decide_runs_over_generations", law, failed, EFFECT_BOUNDS)
         return rules.decide_runs_over_generations(a, b, bound=stats.ALPHA, claim="better",
@@ -291,11 +303,11 @@ _SHIFTS: dict[str, float] = {}
 
 
 def _null_not_worse(rules, law, n, rng):
-    if law in FAILURE_LAWS:
+    if law in MIXTURE_LAWS:
         # A's runs fail 2 x SMALL_A_EFFECT more often than B's: a seed where only A fails
         # has A12 = 0 (effect -0.5), only B +0.5, so the true mean effect is exactly
         # -SMALL_A_EFFECT (the runs' values are far apart; equal status: 0 on average)
-        rate, e = FAILURE_LAWS[law].rate, stats.SMALL_A_EFFECT
+        rate, e = MIXTURE_LAWS[law].rate, stats.SMALL_A_EFFECT
         a, b, failed = _failing_runs(law, rng, n, rate + e, rate - e)
         kw = _failure_kw(rules, "decide_not_worse", law, failed, EFFECT_BOUNDS)
         return rules.decide_not_worse(a, b, **kw).status
@@ -313,6 +325,17 @@ def _null_majority(rules, law, n, rng):
     return rules.decide_majority(x > LAWS[law].median() - LAWS[law].mean()).status
 
 
+def _null_within_budget(rules, law, n, rng):
+    # rule 7 at a per-seed success rate of exactly one half: a seed reaches the target
+    # within the budget when its value is above the law's median (every run long enough)
+    x = _draw(law, rng, n)
+    hit = x > LAWS[law].median() - LAWS[law].mean()
+    budget = 100.0
+    reached = np.where(hit, budget, np.nan)
+    return rules.decide_within_budget(reached, np.full(n, 10 * budget), budget=budget,
+                                      label="evaluations").status
+
+
 #: rule name -> null simulator ``(rules, law, n, rng) -> status``.
 NULLS: dict[str, Callable] = {
     "rule4_beats": _null_beats,
@@ -323,13 +346,17 @@ NULLS: dict[str, Callable] = {
     "rule9_better": _null_runs_better,
     "rule9_not_worse": _null_not_worse,
     "rule10_majority": _null_majority,
+    "rule7_within_budget": _null_within_budget,
 }
 #: The laws each rule's null is simulated under (rule 10's events are flags: the law only
 #: decides which seeds show the event, exactly half of them).
 RULE_LAWS: dict[str, tuple[str, ...]] = {
-    **{r: tuple(ALL_LAWS) for r in NULLS},
+    **{r: (*LAWS, *FAILURE_LAWS, *DISCRETE_LAWS) for r in NULLS},
+    **{r: (*LAWS, *MIXTURE_LAWS, *DISCRETE_LAWS) for r in (
+        "rule4_beats", "rule5_equivalent", "rule6_above", "rule6_below", "rule9_better")},
     "rule9_not_worse": NOT_WORSE_LAWS,
     "rule10_majority": tuple(LAWS),
+    "rule7_within_budget": tuple(LAWS),
 }
 
 
@@ -343,6 +370,42 @@ def false_reproduced(rule: str, n: int, law: str, *, reps: int,
     rng = _rng("null", rule, n, law)
     hits = sum(NULLS[rule](rules, law, n, rng) == "reproduced" for _ in range(reps))
     return hits / reps
+
+
+#: Spurious per-run success rates of the false-existence calibration (a run passes the
+#: success criterion by chance: an outcome drawn at the rounding level), and its seed
+#: counts (the profiles' 3 to 10, and chapter 6's 40).
+SPURIOUS_RATES = (0.01, 0.02, 0.05)
+EXISTENCE_SEED_COUNTS = (3, 5, 10, 40)
+#: True rates of a real event (its twin repeats it) of the existence power rows.
+EXISTENCE_RATES = (0.1, 0.3, 0.5)
+
+
+def false_existence(n: int, q: float, *, reps: int,
+                    rules: types.ModuleType = stats) -> float:
+    """Share of ``reps`` simulated claims that ``rules.decide_exists`` calls "reproduced"
+    when no event exists: each of ``n`` seeds' runs passes the success criterion by chance
+    with probability ``q``, its perturbed twin independently so; the twin's flags go in
+    as ``replicated`` where the rules take them (the before-table's rules do not)."""
+    rng = _rng("exists", n, q)
+    takes = "replicated" in inspect.signature(rules.decide_exists).parameters
+    hits = 0
+    for _ in range(reps):
+        run, twin = rng.random(n) < q, rng.random(n) < q
+        kw = {"replicated": twin.astype(float)} if takes else {}
+        hits += rules.decide_exists(run.astype(float), **kw).status == "reproduced"
+    return hits / reps
+
+
+def existence_table(*, reps: int, rules: types.ModuleType = stats,
+                    ns: Sequence[int] = EXISTENCE_SEED_COUNTS,
+                    qs: Sequence[float] = SPURIOUS_RATES) -> list[dict]:
+    """False-existence rate per seed count and spurious per-run rate
+    (:func:`false_existence`): rows ``{"rule", "n_seeds", "law", "rate", "reps",
+    "nominal"}``."""
+    return [{"rule": "rule10_exists", "n_seeds": n, "law": f"spurious{q:g}", "reps": reps,
+             "nominal": stats.ONE_SIDED, "rate": false_existence(n, q, reps=reps, rules=rules)}
+            for n in ns for q in qs]
 
 
 def monte_carlo_bound(level: float, reps: int, k: float = 3.0) -> float:
@@ -437,7 +500,10 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
                 works_rates: Sequence[float] = WORKS_RATES,
                 fails_rates: Sequence[float] = FAILS_RATES,
                 failure_rates: Sequence[float] = FAILURE_RATES,
-                failure_ns: Sequence[int] = FAILURE_SEED_COUNTS) -> dict:
+                failure_ns: Sequence[int] = FAILURE_SEED_COUNTS,
+                existence_ns: Sequence[int] = EXISTENCE_SEED_COUNTS,
+                spurious_rates: Sequence[float] = SPURIOUS_RATES,
+                existence_rates: Sequence[float] = EXISTENCE_RATES) -> dict:
     """Probability of "reproduced" when the claim holds, per seed count (deterministic).
 
     Returns ``{"nominal": ..., "reps": ..., "rows": [...]}``; each row has ``rule``,
@@ -451,6 +517,10 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
     - rule 6 with a failure indicator (rule 3b) at ``failure_ns`` seeds: a share
       ``failure_rates`` of runs fails (value near 0.2, declared range [0, 0.4]), the rest
       near 1.0; the claim "the mean is above :data:`FAILURE_POWER_BOUND`" is true.
+    - rule 10's existence at ``existence_ns`` seeds (exact): "reproduced" when no event
+      exists and runs pass by chance at ``spurious_rates`` (their twins independently:
+      the false-existence rate, rule ``rule10_exists_spurious``), and when a real event
+      shows in a share ``existence_rates`` of seeds and its twin repeats it.
     Rule 6 without failures has rule 4's power (one-sided t on the values minus the bound).
     """
     rows = []
@@ -481,6 +551,16 @@ def power_table(*, reps: int = 1000, ns: Sequence[int] = SEED_COUNTS,
                          "truth": f"{100 * r:g} % of runs fail (mean {mean:.2f}, bound "
                                   f"{FAILURE_POWER_BOUND:g})",
                          "power": _power_failing(n, r, reps)})
+    for n in existence_ns:
+        need = stats.exists_needs(n, replicated=True)
+        for q in spurious_rates:
+            rows.append({"rule": "rule10_exists_spurious", "n_seeds": n, "effect": q,
+                         "truth": f"no event; runs pass by chance at {q:g} (twins too)",
+                         "power": float(sps.binom.sf(need - 1, n, q * q))})
+        for r in existence_rates:
+            rows.append({"rule": "rule10_exists", "n_seeds": n, "effect": r,
+                         "truth": f"event in a share {r:g} of seeds, repeated by its twin",
+                         "power": float(sps.binom.sf(need - 1, n, r))})
     return {"nominal": stats.ONE_SIDED, "reps": reps, "seed": SEED,
             "interval": stats.INTERVAL_METHOD, "rows": rows}
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from scipy import stats as sps
 
 from thesis import paper
 from thesis.claims import sentences, stats
@@ -41,10 +42,6 @@ SPATIAL = ["bilinear", "bilinear_no_skew", "chirp_z"]
 #: Tolerance of "performs similarly": the per-seed ratio of chirp-Z's error to the other's
 #: within the uniform relative tolerance (rule 7), decided on its logarithm (rule 3).
 SIMILAR_MARGIN = stats.PUBLISHED_TOLERANCE
-#: Range [percentage points] of a per-seed difference of two errors on a seed where a
-#: network failed (rule 3b's ``failure_bounds``): either side may be the one at chance, so
-#: no range narrower than that of a difference of two error rates is known.
-FAILED_ADVANTAGE_BOUNDS = (-100.0, 100.0)
 #: Units of the numbers the checks report: errors in percent, as the thesis prints them.
 MEASURED_UNITS = {"error": "percent", "advantage": "percentage points",
                   "ratio": "1 (a ratio of errors; its log is decided)"}
@@ -106,23 +103,47 @@ def failed_seeds(results: Results, err) -> np.ndarray | None:
     return cell.any([d for d in cell.dims if d != "seed"]).transpose("seed").values
 
 
-def _beats(a, b, failed, **kw) -> Verdict:
-    """Rule 4 on per-seed errors; rule 3b with the seeds' failure flags when recorded."""
+def chance_error_high(results: Results) -> float:
+    """The largest error [percent] of a network at chance, within its binomial spread: the
+    upper one-sided :data:`thesis.claims.stats.ONE_SIDED` quantile of the error of
+    ``n_test`` sequences each wrong with probability
+    :data:`thesis.claims.sentences.CHANCE_ERROR` (9 in 10 digits); 100 without
+    ``n_test``. A network that works beats chance, so every compared cell's error lies
+    between 0 and this."""
+    n = _n_test(results)
+    if n < 1:
+        return 100.0
+    return 100.0 * float(sps.binom.isf(stats.ONE_SIDED, n, sentences.CHANCE_ERROR)) / n
+
+
+def failed_advantage_bounds(results: Results) -> tuple[float, float]:
+    """Range [percentage points] of the per-seed difference of two compared errors on a
+    seed where a network failed (rule 3b's ``failure_bounds``), from what the failure is:
+    each side's error lies between 0 and :func:`chance_error_high` (the failed network at
+    chance, the others better), and either side may be the failed one."""
+    hi = chance_error_high(results)
+    return (-hi, hi)
+
+
+def _beats(a, b, failed, bounds: tuple[float, float], **kw) -> Verdict:
+    """Rule 4 on per-seed errors; rule 3b with the seeds' failure flags when recorded and
+    the failed seeds' range ``bounds`` (:func:`failed_advantage_bounds`)."""
     if failed is None:
         return stats.decide_beats(a, b, higher_is_better=False, **kw)
     return stats.decide_beats(a, b, higher_is_better=False, failed=failed,
-                              failure_bounds=FAILED_ADVANTAGE_BOUNDS, **kw)
+                              failure_bounds=bounds, **kw)
 
 
 def spatial_beats_plain(results: Results, transforms: list[str] = SPATIAL) -> Verdict:
     """Spatial transformer networks (mean of ``transforms``) have lower error [percent]
     than "none" (§2.5): rule 4 on the per-seed errors averaged over model and d, with rule
     3b's failure flags (:func:`failed_seeds`: some compared network failed on that seed)
-    and :data:`FAILED_ADVANTAGE_BOUNDS` when the table records an indicator."""
+    and :func:`failed_advantage_bounds` when the table records an indicator."""
     per = _transform_means(results, [*transforms, "none"])
     label = "spatial" if len(transforms) > 1 else transforms[0]
     failed = failed_seeds(results, pick(_errors(results), transform=[*transforms, "none"]))
     v = _beats(_mean_of(per, transforms), _mean_of(per, ["none"]), failed,
+               failed_advantage_bounds(results),
                label_a=label, label_b="none")
     extra = {f"mean_error_{t}": float(np.nanmean(per.sel(transform=t).values))
              for t in [*transforms, "none"]}
@@ -220,7 +241,8 @@ def recurrent_beats_feedforward(results: Results) -> Verdict:
     err = pick(_errors(results), transform=SPATIAL, model=["ffn_spn", "rnn_spn"])
     per = stats.per_seed(err, keep=("model",))
     return _beats(per.sel(model="rnn_spn").values, per.sel(model="ffn_spn").values,
-                  failed_seeds(results, err), label_a="rnn_spn", label_b="ffn_spn")
+                  failed_seeds(results, err), failed_advantage_bounds(results),
+                  label_a="rnn_spn", label_b="ffn_spn")
 
 
 def _cells(transforms) -> tuple[str, ...]:

@@ -18,10 +18,10 @@ Decision margins, fixed in code before any default result was looked at:
 - :data:`EQUIVALENCE_MARGIN` = 5 accuracy points: "virtually the same" / "do not make a
   significant difference" hold when the interval of the per-seed difference lies inside
   +-5 points (rule 5; the thesis's own Tab. 5.6 differences are within 2.5 points);
-- :data:`LR_GAP` = 10 accuracy points: "over 10% more misclassifications" read as
-  percentage points of accuracy (the thesis does not say points or relative; Tab. 5.3
-  satisfies both on touch and minimal), tested as the interval of the per-seed gap above
-  10 points (rule 6);
+- "a gap between the performance on the train set and the test set" (§5.4.1.1) is a
+  difference the chapter would not call "virtually the same": the interval of the
+  per-seed train - test accuracy above :data:`EQUIVALENCE_MARGIN` (rule 6; the thesis's
+  own gaps are 6.5-20 points);
 - :data:`NON_INFERIORITY` = 5 points: "a limited selection suffices" holds when the
   interval of (minimal - useful) RC test accuracy lies above -5 points;
 - Node count of the "100 hidden nodes" comparisons: :data:`NODES` (100), or the profile's
@@ -73,7 +73,6 @@ T53, T54, T55, T56, F53 = (f"ch5/{a}" for a in ("table5_3", "table5_4", "table5_
                                                 "table5_6", "fig5_3"))
 _SEL = ("useful", "reduced", "minimal", "leg", "agt", "imu", "joints", "touch")
 EQUIVALENCE_MARGIN = 5.0
-LR_GAP = 10.0
 NON_INFERIORITY = 5.0
 NODES = 100
 MIN_GENERATIONS = 3
@@ -246,8 +245,11 @@ def limited_selection_suffices(results: Results) -> Verdict:
 
 @_guard(T53, T54, nodes_of=(T54,))
 def nonlinearity_needed(results: Results) -> Verdict:
-    """RC beats LR on every group (Tab. 5.3), and with the hidden layer of the compared size
-    ELM and RC beat LR by at least LR_GAP points on touch and minimal (Tab. 5.4)."""
+    """§5.5 "linear regression performed badly on the data, indicates the importance of
+    adding non-linearities": the methods with non-linearities beat LR: RC on every group
+    (Tab. 5.3), and with the hidden layer of the compared size ELM and RC on touch and
+    minimal (Tab. 5.4), rule 4 each. §5.4.1.2's "over 10% more misclassifications" is that
+    section's figure, not this sentence's."""
     per = _acc(results, T53, ("selection", "method"), split="test")
     parts = {f"t53_{s}": stats.decide_beats(_s(per, selection=s, method="rc").values,
                                             _s(per, selection=s, method="lr").values,
@@ -256,8 +258,8 @@ def nonlinearity_needed(results: Results) -> Verdict:
     for s in ("touch", "minimal"):
         elm, rc, lr, n = _t54(results, s)
         for name, a in (("elm", elm), ("rc", rc)):
-            parts[f"t54_{s}_{name}"] = baseline_gate(_with(stats.decide_threshold(
-                a - lr, bound=LR_GAP, below=False, label=f"{name}_minus_lr"), nodes=n),
+            parts[f"t54_{s}_{name}"] = baseline_gate(_with(stats.decide_beats(
+                a, lr, higher_is_better=True, label_a=name, label_b="lr"), nodes=n),
                 {f"{name}_{s}": a}, majority(results, T54), chance=_chance(results, T54),
                 others={f"lr_{s}": lr})
     base53 = majority(results, T53)
@@ -416,8 +418,10 @@ def lr_improves_with_dimensionality(results: Results) -> Verdict:
 
 @_guard(T53, T55)
 def train_test_gap(results: Results) -> Verdict:
-    """Train accuracy exceeds test accuracy for LR, RC (Tab. 5.3), SFA2 and RC-SFA
-    (Tab. 5.5), per seed averaged over the groups (rule 4 each). The gap is measured
+    """Train accuracy exceeds test accuracy by a gap for LR, RC (Tab. 5.3), SFA2 and RC-SFA
+    (Tab. 5.5), per seed averaged over the groups: rule 6 on train - test above
+    :data:`EQUIVALENCE_MARGIN` (a difference within it is "virtually the same" in this
+    chapter, so no gap; the thesis's gaps are 6.5-20 points). The gap is measured
     against the majority share on the side that must have learned: the *train* accuracy
     must beat the train set's majority share (a model that learned nothing has no gap to
     speak of), while a test accuracy near the majority share is the largest gap, not a
@@ -428,8 +432,9 @@ def train_test_gap(results: Results) -> Verdict:
         for m in methods:
             train = _s(per, method=m, split="train").values
             test = _s(per, method=m, split="test").values
-            parts[m] = baseline_gate(stats.decide_beats(
-                train, test, higher_is_better=True, label_a="train", label_b="test"),
+            parts[m] = baseline_gate(stats.decide_threshold(
+                train - test, bound=EQUIVALENCE_MARGIN, below=False,
+                label="train_minus_test"),
                 {f"{m}_train": train}, majority(results, key, split="train"),
                 chance=_chance(results, key), what="the train set's majority-class share")
     return stats.combine(parts)
@@ -479,8 +484,7 @@ CLAIMS: tuple[Claim, ...] = (
         quote="The fact that linear regression performed badly on the data, indicates the "
               "importance of adding non-linearities.",
         summary="RC test accuracy exceeds LR's on every group (Tab. 5.3, rule 4), and ELM and "
-                "RC with 100 hidden nodes exceed LR by at least 10 accuracy points on touch and "
-                "minimal (Tab. 5.4, rule 6; 'over 10% more misclassifications' read as points).",
+                "RC with 100 hidden nodes exceed LR's on touch and minimal (Tab. 5.4, rule 4).",
         paper_keys=_t53(_SEL) + _T54_PROSE,
         requires=(T53, T54), reads=(f"{T53}:accuracy", f"{T54}:accuracy",
                                     f"{T54}:lr_accuracy"), fn=nonlinearity_needed,
@@ -570,8 +574,9 @@ CLAIMS: tuple[Claim, ...] = (
         id="ch5.train_test_gap", chapter=5, section="§5.4.1.1",
         quote="Consequently there is a gap between the performance on the train set and the "
               "performance on the test set.",
-        summary="Train accuracy exceeds test accuracy for LR and RC (Tab. 5.3) and for SFA2 and "
-                "RC-SFA (Tab. 5.5), per seed averaged over the groups (rule 4 each).",
+        summary="Train accuracy exceeds test accuracy by more than 5 points, a difference this "
+                "chapter would not call virtually the same, for LR and RC (Tab. 5.3) and for "
+                "SFA2 and RC-SFA (Tab. 5.5), per seed averaged over the groups (rule 6 each).",
         paper_keys=_t53(_SEL, split="train") + _t53(_SEL), requires=(T53, T55),
         reads=(f"{T53}:accuracy", f"{T55}:accuracy"), fn=train_test_gap,
     ),

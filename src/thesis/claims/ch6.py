@@ -30,10 +30,11 @@ Decision rules (fixed before the default results were computed):
   and tested once per seed (its own hidden layer and training noise).
 * **One logic per sentence form** (:mod:`thesis.claims.forms` lists each claim's form):
   existential sentences ("an attractor was found", "can generate", "can be extended")
-  are decided as existence: at least one seed succeeds
-  (:func:`thesis.claims.stats.decide_exists`), the rate beside it; sentences about what
-  the method usually does ("learns in a couple of strides", "fails", "works") as rates
-  with the unclear band.
+  are decided as existence: enough seeds succeed in the run *and* its perturbed twin
+  (``success_perturbed``; :func:`thesis.claims.stats.decide_exists`: more than runs
+  passing by chance at 5 % would give), the rate beside it; sentences about what the
+  method usually does ("learns in a couple of strides", "fails" as a rule) as a majority
+  of seeds shown (:func:`judge_usual`, unclear between).
 * **Several configurations**: a claim that holds when *some* configuration of a sweep
   works corrects for looking at all of them: Holm's step-down over the configurations'
   binomial p-values (:func:`thesis.claims.stats.holm`).
@@ -71,6 +72,10 @@ FIG66 = "ch6/fig6_6"
 WORKS_RATE = 0.6
 #: Success rate over seeds at or below which a configuration "fails".
 FAILS_RATE = 0.2
+#: Sentences about what the method usually does ("learns in", "fails" as a rule) are
+#: majorities: "works" needs a success rate shown above this, "fails" one shown below it
+#: (:func:`judge_usual`), never a rate of 45 % (18 of 40 "works" by :func:`judge`).
+USUAL_RATE = 0.5
 #: "Approximately equally" (§6.7): the minimal N of the memory-only and nonlinearity-only
 #: sweeps within this factor of each other.
 INTERCHANGE_FACTOR = 2.0
@@ -83,6 +88,9 @@ RAPID_RATIO = 0.1
 SUCCESS_RULE = (f"configuration works when an exact binomial test rejects a success rate <= "
          f"{FAILS_RATE:g}, fails when one rejects a rate >= {WORKS_RATE:g} (one-sided "
          f"{stats.ONE_SIDED:g} each)")
+USUAL_RULE = (f"the method works as a rule when an exact binomial test rejects a success rate "
+              f"<= {USUAL_RATE:g}, fails when one rejects a rate >= {USUAL_RATE:g} (one-sided "
+              f"{stats.ONE_SIDED:g} each)")
 
 
 def _success(results: Results, key: str):
@@ -140,20 +148,35 @@ def judge(rate: float, n: int) -> str:
                             fails_rate=FAILS_RATE)
 
 
-def p_works(rate: float, n: int) -> float:
+def judge_usual(rate: float, n: int) -> str:
+    """``"works"``, ``"fails"`` or ``"unclear"`` for what the method usually does: a
+    success rate over ``n`` seeds shown above :data:`USUAL_RATE` (a majority) works, one
+    shown below it fails (:func:`thesis.claims.stats.judge_rate` with both rates at one
+    half: at 40 seeds 27-40 work, 0-13 fail, 14-26 are unclear; 5 seeds or fewer cannot
+    show either, 2^-5 > 2.5 %)."""
+    if not np.isfinite(rate):
+        return "unclear"
+    return stats.judge_rate(_successes(rate, n), n, works_rate=USUAL_RATE,
+                            fails_rate=USUAL_RATE)
+
+
+def p_works(rate: float, n: int, *, fails_rate: float = FAILS_RATE) -> float:
     """One-sided binomial p that a configuration with this rate over ``n`` seeds does
-    better than one that fails (rate <= :data:`FAILS_RATE`); NaN below MIN_SEEDS."""
+    better than one that fails (rate <= ``fails_rate``, :data:`FAILS_RATE`); NaN below
+    MIN_SEEDS."""
     if n < stats.MIN_SEEDS or not np.isfinite(rate):
         return float("nan")
     return stats.rate_pvalues(_successes(rate, n), n, works_rate=WORKS_RATE,
-                              fails_rate=FAILS_RATE)[0]
+                              fails_rate=fails_rate)[0]
 
 
-def unclear_why(label: str, rate: float, n: int) -> str:
+def unclear_why(label: str, rate: float, n: int, *, usual: bool = False) -> str:
     """Why ``label`` is unclear: the count between the bounds, or a seed count that cannot
-    show works or fails at all (:func:`thesis.claims.stats.reachable`)."""
+    show works or fails at all (:func:`thesis.claims.stats.reachable`; ``usual``: by
+    :func:`judge_usual`'s majorities)."""
     k = _successes(rate, n)
-    can_work, can_fail = stats.reachable(n, works_rate=WORKS_RATE, fails_rate=FAILS_RATE)
+    lo, hi = (USUAL_RATE, USUAL_RATE) if usual else (FAILS_RATE, WORKS_RATE)
+    can_work, can_fail = stats.reachable(n, works_rate=hi, fails_rate=lo)
     why = f"{label}: {k} of {n} seeds succeed, neither works nor fails at {stats.ONE_SIDED:g}"
     if not can_fail:
         why += f" ({n} seeds cannot show that a configuration fails at that level)"
@@ -237,25 +260,58 @@ def _flags(results: Results, key: str, role: str) -> np.ndarray:
     return pick(_success(results, key), config=_config_of(results, key, role)).values
 
 
+def _configs(results: Results, key: str) -> list[str]:
+    """Every config name of ``key``."""
+    return [str(c) for c in results[key]["config"].values]
+
+
+def _twin_success(results: Results, key: str):
+    """(config, seed) 0/1 success of each run's perturbed twin (``success_perturbed``,
+    :mod:`thesis.embodied.twins`), or None where the dataset carries no twins: an event of
+    an existential sentence counts only where the twin repeats it
+    (:func:`thesis.claims.stats.decide_exists`)."""
+    ds = results[key]
+    if "success_perturbed" not in ds.data_vars:
+        return None
+    return variable(results, key, "success_perturbed", dims=("config", "seed"))
+
+
+def _repeated(results: Results, key: str, configs: list[str]) -> np.ndarray | None:
+    """Per seed, 1 where some config of ``configs`` succeeds in the run and in its twin
+    (NaN where none was run), None without twins."""
+    twin = _twin_success(results, key)
+    if twin is None:
+        return None
+    both = (pick(_success(results, key), config=configs).values
+            * pick(twin, config=configs).values)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a seed not run at any config
+        return np.nanmax(both, axis=0)
+
+
 def trot_h50_b5_stable(results: Results) -> Verdict:
     """§6.5 "an attractor was found": existential, so reproduced when at least one seed's
     trot controller (H = 50, B = 5) is stable and returns after power-off; the success
     rate is reported beside it (:func:`thesis.claims.stats.decide_exists`)."""
-    v = stats.decide_exists(_flags(results, TROT, "base"), label="trot_h50_b5_succeeds")
+    flags = _flags(results, TROT, "base")
+    v = stats.decide_exists(flags, label="trot_h50_b5_succeeds",
+                            replicated=_repeated(results, TROT,
+                                                 [_config_of(results, TROT, "base")]))
     why = short_setup(results, TROT, config=_config_of(results, TROT, "base"))
     return _untestable(why, v.measured) if why else v
 
 
 def phase1_only_fails(results: Results) -> Verdict:
     """§6.4: trained by the first stage alone the controller fails, while the full
-    protocol (both stages) works: reproduced when phase 1 alone fails and the trot works;
-    not reproduced when phase 1 alone works; else inconclusive."""
+    protocol (both stages) works, each as a rule (:func:`judge_usual`: a majority of seeds
+    shown): reproduced when phase 1 alone fails and the trot works; not reproduced when
+    phase 1 alone works; else inconclusive."""
     r1, n1 = _rate(results, TROT, role="phase1_only")
     r2, n2 = _rate(results, TROT, role="base")
-    j1, j2 = judge(r1, n1), judge(r2, n2)
+    j1, j2 = judge_usual(r1, n1), judge_usual(r2, n2)
     measured = {"phase1_only_success_rate": r1, "both_stages_success_rate": r2,
                 "n_seeds": min(n1, n2)}
-    statistic = f"success rates over seeds, phase 1 only vs both stages; {SUCCESS_RULE}"
+    statistic = f"success rates over seeds, phase 1 only vs both stages; {USUAL_RULE}"
     why = short_setup(results, TROT)
     if why:
         return _untestable(why, measured)
@@ -271,25 +327,31 @@ def phase1_only_fails(results: Results) -> Verdict:
         return Verdict("inconclusive", measured, statistic,
                        f"phase 1 alone fails ({r1:.2f}) but the full protocol does not work "
                        f"either ({r2:.2f}): the ablation does not show what stage 2 adds")
-    return Verdict("inconclusive", measured, statistic, unclear_why("phase 1 alone", r1, n1))
+    return Verdict("inconclusive", measured, statistic,
+                   unclear_why("phase 1 alone", r1, n1, usual=True))
 
 
-def p_fails(rate: float, n: int) -> float:
+def p_fails(rate: float, n: int, *, works_rate: float = WORKS_RATE) -> float:
     """One-sided binomial p that a configuration with this rate over ``n`` seeds does
-    worse than one that works (rate >= :data:`WORKS_RATE`); NaN below MIN_SEEDS."""
+    worse than one that works (rate >= ``works_rate``, :data:`WORKS_RATE`); NaN below
+    MIN_SEEDS."""
     if n < stats.MIN_SEEDS or not np.isfinite(rate):
         return float("nan")
-    return stats.rate_pvalues(_successes(rate, n), n, works_rate=WORKS_RATE,
+    return stats.rate_pvalues(_successes(rate, n), n, works_rate=works_rate,
                               fails_rate=FAILS_RATE)[1]
 
 
-def holm_works(rates, n) -> tuple[np.ndarray, np.ndarray]:
+def holm_works(rates, n, *, usual: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(p_works per configuration, which work): which configurations of a sweep work once
     looking at all of them is corrected for. A configuration works when Holm's step-down
     at ONE_SIDED over the sweep rejects "its rate is at most :data:`FAILS_RATE`" and its
-    rate is not shown below :data:`WORKS_RATE` (the unclear band of :func:`judge`)."""
-    p = np.array([p_works(r, k) for r, k in zip(rates, n)])
-    below = np.array([p_fails(r, k) <= stats.ONE_SIDED for r, k in zip(rates, n)], bool)
+    rate is not shown below :data:`WORKS_RATE` (the unclear band of :func:`judge`); with
+    ``usual`` (a sentence about what the method usually does) both rates are
+    :data:`USUAL_RATE`, a majority (:func:`judge_usual`)."""
+    lo, hi = (USUAL_RATE, USUAL_RATE) if usual else (FAILS_RATE, WORKS_RATE)
+    p = np.array([p_works(r, k, fails_rate=lo) for r, k in zip(rates, n)])
+    below = np.array([p_fails(r, k, works_rate=hi) <= stats.ONE_SIDED
+                      for r, k in zip(rates, n)], bool)
     return p, stats.holm(p) & ~below
 
 
@@ -311,7 +373,8 @@ def memoryless_feedback_trots(results: Results) -> Verdict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a seed not run at any H: NaN
         some_h = np.nanmax(succ, axis=0)
-    v = stats.decide_exists(some_h, label="some_h_trots_at_b0")
+    v = stats.decide_exists(some_h, label="some_h_trots_at_b0",
+                            replicated=_repeated(results, HIDDEN, _configs(results, HIDDEN)))
     measured = {**v.measured, **{f"success_rate_h{int(h)}": r for h, r in zip(hidden, rates)},
                 **{f"p_works_h{int(h)}": x for h, x in zip(hidden, p)},
                 **{f"min_hidden_{k}": x for k, x in _spread(per_seed).items()},
@@ -335,9 +398,10 @@ def learns_in_couple_of_strides(results: Results) -> Verdict:
     """§6.5 / §6.7 / §8.1: with H = 250, B = 0, stages of about two gait periods suffice.
     A sentence about what the method usually does ("learns ... in the time span of only a
     couple of strides"), so decided as a rate with the unclear band (:func:`judge`), not
-    as existence. The stage lengths of the sweep up to the thesis's 1.18 s plus 25 %
-    (rule 7) are "about two periods": reproduced when one of them works after Holm's
-    correction over them (:func:`holm_works`), not reproduced when all fail."""
+    as existence; "works" is a majority of seeds shown (:func:`judge_usual`). The stage
+    lengths of the sweep up to the thesis's 1.18 s plus 25 % (rule 7) are "about two
+    periods": reproduced when one of them works after Holm's correction over them
+    (:func:`holm_works` with ``usual``), not reproduced when all fail."""
     succ, stage, rates, n = _sweep(results, TRAINING, "stage1_seconds")
     thesis_t = paper.get("minimal_training/stage_seconds").value
     limit = thesis_t * (1 + stats.PUBLISHED_TOLERANCE)
@@ -347,7 +411,7 @@ def learns_in_couple_of_strides(results: Results) -> Verdict:
                 **{f"min_stage_seconds_{k}": v for k, v in _spread(per_seed).items()},
                 "limit_seconds": limit, "thesis_stage_seconds": thesis_t}
     statistic = (f"success rate per stage length (H = 250, B = 0); stages <= {limit:.3g} s "
-                 f"(thesis {thesis_t:g} s + 25 %); {SUCCESS_RULE}; Holm's correction over the "
+                 f"(thesis {thesis_t:g} s + 25 %); {USUAL_RULE}; Holm's correction over the "
                  "short stage lengths")
     why = short_setup(results, TRAINING, stage_key=None)
     if why:
@@ -357,8 +421,8 @@ def learns_in_couple_of_strides(results: Results) -> Verdict:
     if not short.any():
         return Verdict("inconclusive", measured, statistic,
                        f"no stage length of the sweep is <= {limit:.3g} s")
-    judged = [judge(r, k) for r, k in zip(rates[short], n[short])]
-    p, held = holm_works(rates[short], n[short])
+    judged = [judge_usual(r, k) for r, k in zip(rates[short], n[short])]
+    p, held = holm_works(rates[short], n[short], usual=True)
     measured.update({f"p_works_stage{s:g}s": v for s, v in zip(stage[short], p)})
     if held.any():
         ok = ", ".join(f"{s:g}" for s in stage[short][held])
@@ -375,40 +439,11 @@ def learns_in_couple_of_strides(results: Results) -> Verdict:
 def finds_stable_in_couple_of_periods(results: Results) -> Verdict:
     """§8.1 "we demonstrated that in as little as a couple of periods of the gait, this
     system already finds stable feedback control parameters for trotting without requiring
-    any memory": what was demonstrated, with "in as little as" naming the shortest time at
-    which it happened, so an existential sentence (:mod:`thesis.claims.forms`), unlike
-    §6.7's "learns ... in the time span of only a couple of strides"
-    (:func:`learns_in_couple_of_strides`, a rate). With H = 250 and B = 0 (no memory), a
-    seed shows it when some stage length up to the thesis's 1.18 s plus 25 % (rule 7,
-    about two gait periods) gives a stable trot (:func:`thesis.claims.stats.decide_exists`
-    on those seeds); beside it, each short stage length's success rate and which of them
-    work by the rate rule with Holm's correction (:func:`holm_works`)."""
-    succ, stage, rates, n = _sweep(results, TRAINING, "stage1_seconds")
-    thesis_t = paper.get("minimal_training/stage_seconds").value
-    limit = thesis_t * (1 + stats.PUBLISHED_TOLERANCE)
-    short = stage <= limit + 1e-9
-    measured = {**{f"success_rate_stage{s:g}s": r for s, r in zip(stage, rates)},
-                "limit_seconds": limit, "thesis_stage_seconds": thesis_t}
-    why = short_setup(results, TRAINING, stage_key=None)
-    if why:
-        return _untestable(why, measured)
-    if not short.any():
-        return Verdict("inconclusive", measured, "existence over the short stage lengths",
-                       f"no stage length of the sweep is <= {limit:.3g} s")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a seed not run at any short stage
-        some_short = np.nanmax(succ[short], axis=0)
-    v = stats.decide_exists(some_short, label="some_short_stage_trots_at_b0")
-    p, held = holm_works(rates[short], n[short])
-    measured.update({**v.measured,
-                     **{f"p_works_stage{s:g}s": x for s, x in zip(stage[short], p)},
-                     "n_short_stages_working_holm": int(held.sum())})
-    statistic = (v.statistic + f"; a seed counts when a stage <= {limit:.3g} s (thesis "
-                 f"{thesis_t:g} s + 25 %) succeeds with H = 250, B = 0; beside it, the success "
-                 f"rate per short stage ({SUCCESS_RULE}; Holm's correction over them)")
-    works = ", ".join(f"{s:g}" for s in stage[short][held]) or "none"
-    return Verdict(v.status, measured, statistic,
-                   f"{v.detail}; short stages that work after Holm: {works}")
+    any memory": the summary of §6.7's "learns ... in the time span of only a couple of
+    strides", one finding, so one verdict: the chapter claim's rule on the same runs
+    (:func:`learns_in_couple_of_strides`, a rate with the unclear band: some short stage
+    works as a rule, Holm over the short stages)."""
+    return learns_in_couple_of_strides(results)
 
 
 def extends_to_walk(results: Results) -> Verdict:
@@ -430,7 +465,8 @@ def extends_to_walk(results: Results) -> Verdict:
     fw = pick(s, config=walk[0]).values
     fc = pick(s, config=ctrl[0]).values
     rt, nt = _rate(results, TROT, role="base")
-    v = stats.decide_exists(fw, label="walk_succeeds")
+    v = stats.decide_exists(fw, label="walk_succeeds",
+                            replicated=_repeated(results, WALK, walk))
     kw, nw = int(np.nansum(fw)), int(np.isfinite(fw).sum())
     kc, nc = int(np.nansum(fc)), int(np.isfinite(fc).sum())
     p_more, p_less = rate_contrast(fw, fc)
@@ -592,20 +628,22 @@ def rate_contrast(a, b) -> tuple[float, float]:
 def linear_feedback_insufficient(results: Results) -> Verdict:
     """§6.3.1 "we could indeed generate a gait this way, but ... it was not stable and did
     not always return to its limit cycle", the section's case for the ELM controller.
-    "Did not always" is existential on failure: some seed of linear feedback (no hidden
-    layer, no buffer) fails (:func:`thesis.claims.stats.decide_exists` on the failures);
-    "not stable", against the ELM controller that is: linear feedback succeeds less often
-    than the trot controller (H = 50, B = 5) under the same protocol (one-sided Fisher
-    exact test at :data:`thesis.claims.stats.ONE_SIDED`). Reproduced when both hold; not
-    reproduced when every seed of linear feedback succeeds (at least 3), or it succeeds
-    significantly more often than the trot controller; else inconclusive."""
+    "It was not stable" is what linear feedback (no hidden layer, no buffer) does as a
+    rule: most of its seeds fail (rule 10 on the failures,
+    :func:`thesis.claims.stats.decide_majority`; "did not always return" follows); and,
+    as the section's case for the ELM controller, it succeeds less often than the trot
+    controller (H = 50, B = 5) under the same protocol (one-sided Fisher exact test at
+    :data:`thesis.claims.stats.ONE_SIDED`). Reproduced when both hold; not reproduced when
+    most seeds of linear feedback are shown to succeed (stable in 30 of 40 is not "not
+    stable"), or it succeeds significantly more often than the trot controller; else
+    inconclusive."""
     lin = _success(results, LINEAR)
     if lin.sizes["config"] != 1:
         raise LayoutError(f"{LINEAR} has {lin.sizes['config']} configs; expected one")
     fl = lin.isel(config=0).values
     ft = _flags(results, TROT, "base")
-    fails = stats.decide_exists(np.where(np.isfinite(fl), 1.0 - fl, np.nan),
-                                label="linear_feedback_fails")
+    fails = stats.decide_majority(np.where(np.isfinite(fl), 1.0 - fl, np.nan),
+                                  label="linear_feedback_fails")
     p_less, p_more = rate_contrast(ft, fl)  # trot above linear / below linear
     kl, nl = int(np.nansum(fl)), int(np.isfinite(fl).sum())
     kt, nt = int(np.nansum(ft)), int(np.isfinite(ft).sum())
@@ -629,11 +667,11 @@ def linear_feedback_insufficient(results: Results) -> Verdict:
              f"{kt} of {nt}")
     return _exists_and_contrast(
         fails.status, p_less, p_more, measured, statistic, rates,
-        absent="every seed of linear feedback succeeds",
+        absent="linear feedback is shown stable in most seeds",
         against="linear feedback succeeds more often than the trot controller",
-        both="linear feedback fails in some seeds and succeeds less often than the trot "
+        both="linear feedback fails in most seeds and succeeds less often than the trot "
              "controller",
-        neither="linear feedback fails in some seeds but is not shown to do worse than "
+        neither="linear feedback fails in most seeds but is not shown to do worse than "
                 "the trot controller: nothing under this protocol contrasts it")
 
 
@@ -650,6 +688,9 @@ def _exists_and_contrast(exists: str, p_for: float, p_against: float, measured: 
     if p_against <= stats.ONE_SIDED:
         return Verdict("not_reproduced", measured, statistic,
                        f"{against} ({rates}, p = {p_against:.3g})")
+    if exists != "reproduced":
+        return Verdict("inconclusive", measured, statistic,
+                       f"the first part is not shown ({rates}, contrast p = {p_for:.3g})")
     if p_for <= stats.ONE_SIDED:
         return Verdict("reproduced", measured, statistic, f"{both} ({rates}, p = {p_for:.3g})")
     return Verdict("inconclusive", measured, statistic, f"{neither} ({rates}, p = {p_for:.3g})")

@@ -54,7 +54,7 @@ from thesis.errors import SimulationDiverged
 from thesis.physics import rollout
 from thesis.store import WALL_CLOCK
 
-__all__ = ["ARMS", "GROUPS", "arms", "gradients"]
+__all__ = ["ARMS", "GROUPS", "arms", "gradients", "random_direction_steps"]
 
 #: The three arms and which parameter groups each optimises (controller, morphology).
 ARMS = {"controller": (1.0, 0.0), "morphology": (0.0, 1.0), "joint": (1.0, 1.0)}
@@ -93,11 +93,52 @@ def _starts(key, n: int, push_std: float, lift_max: float):
     return push, lift
 
 
+def random_direction_steps(net, u, keys, opt_c, opt_m):
+    """The negative control of the joint arm: ``net`` and body coordinates ``u`` updated
+    by the same optimisers as the gradient runs, fed a random direction instead of the
+    gradient at every update, so every step has the gradient run's size (Adam moves each
+    coordinate by about its learning rate whatever the direction's scale) and none knows
+    the objective.
+
+    Args:
+        net: one run's network parameters (pytree).
+        u: (M,) body coordinates (unconstrained, :mod:`thesis.coopt.morphology`).
+        keys: (E,) JAX keys, one per update: the directions, standard normal per
+            coordinate, drawn from them.
+        opt_c, opt_m: the controller's and the body's optimisers
+            (:func:`thesis.diffphys.bptt.make_optimizer`).
+
+    Returns:
+        (net, u) after the E updates.
+    """
+    leaves, tree = jax.tree.flatten(net)
+
+    def step(carry, key):
+        n_, u_, sc, sm = carry
+        kc, km = jax.random.split(key)
+        ks = jax.random.split(kc, len(leaves))
+        gc = jax.tree.unflatten(tree, [jax.random.normal(k, x.shape, x.dtype)
+                                       for k, x in zip(ks, jax.tree.leaves(n_))])
+        gm = jax.random.normal(km, u_.shape, u_.dtype)
+        dc, sc = opt_c.update(gc, sc, n_)
+        dm, sm = opt_m.update(gm, sm, u_)
+        return (jax.tree.map(jnp.add, n_, dc), u_ + dm, sc, sm), None
+
+    with jax.numpy_dtype_promotion("standard"):  # optax's Adam mixes int counts and floats
+        (net, u, _, _), _ = jax.lax.scan(step, (net, u, opt_c.init(net), opt_m.init(u)),
+                                         keys)
+    return net, u
+
+
 def arms(ctx) -> xr.Dataset:
     """Experiment ``coopt/arms`` (§8.2): controller, morphology and both co-optimised.
 
     Dataset: dims ``arm`` (controller, morphology, joint), ``seed``, ``evaluation``,
-    ``param``, ``start``. Variables: ``speed`` (arm, seed, evaluation) [m/s], the
+    ``param``, ``start``. With ``random_direction_control``, also
+    ``random_direction_final_speed`` (seed) [m/s]: the joint arm's negative control, the
+    same number of updates along random directions (:func:`random_direction_steps`), from
+    the same start, run after training so that no other variable changes. Variables:
+    ``speed`` (arm, seed, evaluation) [m/s], the
     objective of the parameters before the k-th update; ``final_speed`` (arm, seed) of
     the parameters after the last; ``morphology`` (arm, seed, evaluation, param) the body
     before the k-th update and ``final_morphology`` (arm, seed, param) [units of
@@ -191,6 +232,17 @@ def arms(ctx) -> xr.Dataset:
                                        jnp.asarray(lift, jnp.float32)))[0]
     if not (np.all(np.isfinite(final)) and np.all(np.isfinite(perturbed))):
         raise SimulationDiverged(ctx.key, seeds[0], E, "re-evaluation of the final gaits")
+    control = None
+    if bool(acfg.get("random_direction_control", False)):
+        keys = jnp.stack([jax.random.split(seeding.key(
+            ctx.root_seed, "coopt/arms/random_direction", s), E) for s in seeds])
+        net_r, u_r = jax.jit(jax.vmap(lambda n_, u_, k: random_direction_steps(
+            n_, u_, k, opt_c, opt_m)))(
+            jax.tree.map(lambda *x: jnp.stack(x), *nets0),
+            jnp.zeros((len(seeds), u.shape[1]), jnp.float32), keys)
+        control = np.asarray(nominal(net_r, u_r))
+        ctx.log.info("random-direction control, final speed: %s",
+                     np.round(control, 3).tolist())
     S, A = len(seeds), len(arm_names)
     shape = lambda x: x.reshape((A, S) + x.shape[1:])  # noqa: E731  runs are arm-major
     ctx.log.info("final speed by arm: %s", {a: np.round(shape(final)[i], 3).tolist()
@@ -227,6 +279,10 @@ def arms(ctx) -> xr.Dataset:
         coords={"arm": arm_names, "seed": seeds, "axis": ["x", "y", "z"],
                 "start": np.arange(P), **_param_coords()},
     )
+    if control is not None:
+        ds["random_direction_final_speed"] = ("seed", control, {
+            "units": "m/s", "long_name": "objective after the joint arm's updates along "
+            "random directions of the same step size (negative control), nominal start"})
     ds["evaluation"] = ("evaluation", np.arange(1, E + 1),
                         {"units": "1", "long_name": "gradient evaluation"})
     ds.attrs.update({

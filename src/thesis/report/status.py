@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from thesis.claims import kinds as claim_kinds
 from thesis.report import verdicts as V
 from thesis.report.chapters import CHAPTERS
 
@@ -118,6 +119,7 @@ class ChapterStatus:
     runs_twinned: int = 0
     runs_flipped: int = 0
     headline: dict | None = None
+    kinds: dict[str, int] = field(default_factory=dict)
 
     @property
     def ran(self) -> bool:
@@ -168,6 +170,11 @@ def chapter_status(results: Mapping[str, xr.Dataset],
             s = str(c.get("status", "not_run"))
             counts[s] = counts.get(s, 0) + 1
         runs_twinned, runs_flipped = _flips(dss)
+        kinds: dict[str, int] = {}
+        for c in sel:
+            k = claim_kinds.kind_of(c)
+            if k and c.get("status") == "inconclusive":
+                kinds[k] = kinds.get(k, 0) + 1
         out.append(ChapterStatus(
             chapter=ch, title=title, results=keys,
             profiles=sorted({str(d.attrs.get("profile", "?")) for d in dss}),
@@ -181,7 +188,8 @@ def chapter_status(results: Mapping[str, xr.Dataset],
             native=sum("native" in c for c in sel),
             isa_dependent=sum(bool(c.get("isa_dependent")) for c in sel),
             runs_twinned=runs_twinned, runs_flipped=runs_flipped,
-            headline=by_id.get(HEADLINES.get(ch))))
+            headline=by_id.get(HEADLINES.get(ch)),
+            kinds={k: kinds[k] for k in sorted(kinds, key=_kind_order)}))
     return out
 
 
@@ -202,10 +210,22 @@ def _what_ran(s: ChapterStatus) -> str:
             + (f"; newest started {s.latest}" if s.latest else ""))
 
 
+def _kind_order(kind: str) -> int:
+    return claim_kinds.KINDS.index(kind) if kind in claim_kinds.KINDS else len(
+        claim_kinds.KINDS)
+
+
+def _kind_words(s: ChapterStatus) -> str:
+    """The inconclusive verdicts counted by kind ("" when none carries one)."""
+    return ", ".join(f"{n} {k}" for k, n in s.kinds.items())
+
+
 def _verdict_words(s: ChapterStatus) -> str:
     if not s.counts:
         return "no claims"
-    return ", ".join(f"{n} {st.replace('_', ' ')}" for st, n in s.counts.items())
+    words = ", ".join(f"{n} {st.replace('_', ' ')}" for st, n in s.counts.items())
+    kinds = _kind_words(s)
+    return words + (f" (inconclusive: {kinds})" if kinds else "")
 
 
 def _twin_words(s: ChapterStatus) -> str:
@@ -302,6 +322,9 @@ def status_html(rows: list[ChapterStatus],
         head, thesis, measured = _headline_words(s)
         badges = " ".join(f"{V.status_html(st)} {n}" for st, n in s.counts.items()) \
             or '<span class="notrun">no claims</span>'
+        if s.kinds:
+            badges += (f'<br><span class="note">inconclusive: {html.escape(_kind_words(s))}'
+                       "</span>")
         cls = "" if s.ran else ' class="notrun"'
         what, code = SECTIONS.get(s.chapter, ("", ""))
         body.append(

@@ -265,12 +265,20 @@ def method_html(power: dict | None) -> str:
         "no difference, and rank or sign-flip tests cannot reach 2.5 % below 6 seeds. It "
         "assumes independent seeds and per-seed values (paired differences) roughly "
         "symmetric about their mean. 'In most runs' is an exact binomial test against "
-        "1/2 (5 seeds or fewer can never show it: inconclusive); an existential sentence "
-        "('an attractor was found') holds when one seed shows it, the rate beside it; a "
+        "1/2 (5 seeds or fewer can never show it: inconclusive), and so are sentences about "
+        "what a method usually does ('learns in', 'reached within N evaluations'); an "
+        "existential sentence ('an attractor was found') holds only when more seeds show "
+        "it, each repeated by its perturbed twin run, than runs passing by chance at 5 % "
+        "would give (without a twin, against 5 % itself), the rate beside it; a "
         "claim that holds when some configuration does corrects for looking at all of "
         "them (Holm); a claim about classification quality needs the methods to beat the "
         "test set's majority-class share first. Fewer than 3 seeds, or a profile smaller "
-        "than the thesis's setup, give <i>inconclusive</i>.</p>")
+        "than the thesis's setup, give <i>inconclusive</i>. Every inconclusive verdict "
+        "says why: its simulated model failed validation (the targets named), the profile "
+        "is smaller than the thesis's setup, it needs about N seeds (80 % power of its "
+        "rule at the measured effect, within the paper profile's seed count), or it is "
+        "ambiguous at any seed count the paper profile has.</p>")
+    text += decidability_html()
     if not power or not power.get("rows"):
         return ('<h2 id="method">Method: how a verdict is decided</h2>' + text
                 + '<p class="notrun">power table not computed (run <code>thesis check</code>)'
@@ -297,6 +305,31 @@ def method_html(power: dict | None) -> str:
               "fail: working runs near 1.0, failed ones near 0.2 (declared range 0-0.4), "
               "decided with each seed's failure flag. "
               f"Nominal false-'reproduced' rate {100 * power.get('nominal', 0.025):g} %.</p>")
+
+
+def decidability_html() -> str:
+    """The seeds each sized claim needs (:mod:`thesis.claims.decidability`): the first
+    seed count at which its thesis-shaped synthetic data are reproduced and the reversed
+    finding not reproduced, beside the paper profile's, and why a claim beyond it is
+    untestable there."""
+    from thesis import claims as all_claims
+    from thesis.claims import decidability
+
+    rows = []
+    for cid, need in decidability.SEEDS_NEEDED.items():
+        rec = decidability.record(cid, all_claims.get(cid).requires)
+        rows.append(f"<tr><td><code>{html.escape(cid)}</code></td>"
+                    f"<td>{'more than 100' if need is None else need}</td>"
+                    f"<td>{rec['paper_seeds'] if rec['paper_seeds'] is not None else '—'}</td>"
+                    f"<td>{html.escape(rec['untestable']) or 'decidable'}</td></tr>")
+    return ("<h3>Seeds a claim needs: the decidability test</h3><p class=note>The first "
+            "seed count (of 3, 5, 10, 20, 40, 100) at which the thesis-shaped synthetic "
+            "finding is reproduced and the reversed finding not reproduced; the fixtures' "
+            "own per-seed noise is small, so this is what the rule needs, not what real "
+            "runs' spread needs (an inconclusive verdict's own 'needs about N seeds' "
+            "is sized at its measured spread).</p><table><thead><tr><th>claim</th>"
+            "<th>seeds needed</th><th>paper profile</th><th>at the paper profile</th>"
+            "</tr></thead><tbody>" + "".join(rows) + "</tbody></table>")
 
 
 def _moved_text(claims: list[dict], twin: str, flag: str) -> str:
@@ -354,7 +387,10 @@ _RULE_WORDS = {"rule4_beats": "A beats B", "rule5_equivalent": "A is like B",
                "rule10_majority": "in most runs",
                "rate_works": "a configuration works (ch. 6)",
                "rate_fails": "a configuration fails (ch. 6)",
-               "rule6_failing_runs": "X above a bound, runs that fail (rule 3b)"}
+               "rule6_failing_runs": "X above a bound, runs that fail (rule 3b)",
+               "rule10_exists": "it happened (existence, repeated by its twin)",
+               "rule10_exists_spurious": "it happened, but no event exists (false "
+                                         "existence)"}
 
 
 def counts(claims: list[dict]) -> dict[str, int]:
