@@ -32,7 +32,7 @@ from thesis.embodied import loop
 from thesis.embodied import protocol as PR
 from thesis.embodied import teacher as TE
 from thesis.embodied import twins
-from thesis.gaits.experiments import contact_relaxation
+from thesis.gaits.experiments import contact_relaxation, momentum
 
 O = importlib.import_module("thesis.physics.models.oncilla")
 
@@ -108,21 +108,22 @@ def controller_dt(cfg: dict) -> float:
 @functools.lru_cache(maxsize=4)
 def _model(dt: float, iterations: int, knee_spring: float, joint_hz: float,
            contact_hz: float, warm_start: float, relaxation: float, sweep_order: str,
-           contact_relaxation: float | None):
+           contact_relaxation: float | None, momentum: float):
     return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
                      joint_hz=joint_hz, contact_hz=contact_hz, warm_start=warm_start,
                      relaxation=relaxation, sweep_order=sweep_order,
-                     contact_relaxation=contact_relaxation)
+                     contact_relaxation=contact_relaxation, momentum=momentum)
 
 
 def model_of(cfg: dict):
     """(Model, State) of the configured Oncilla (``ch6.model``: step, sweeps, the fitted
     knee spring, the constraint softness [Hz] and the solver's warm start, relaxation and
-    sweep order and contact relaxation; by default chapters 3 and 4's robot)."""
+    sweep order, contact relaxation and momentum; by default chapters 3 and 4's robot)."""
     m = cfg["model"]
     return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
                   float(m["joint_hz"]), float(m["contact_hz"]), float(m["warm_start"]),
-                  float(m["relaxation"]), str(m["sweep_order"]), contact_relaxation(m))
+                  float(m["relaxation"]), str(m["sweep_order"]), contact_relaxation(m),
+                  momentum(m))
 
 
 def teachers_from(ds: xr.Dataset) -> dict[str, tuple]:

@@ -35,7 +35,7 @@ import numpy as np
 
 from thesis import seeding
 from thesis.gaits import runner as R
-from thesis.gaits.experiments import contact_relaxation
+from thesis.gaits.experiments import contact_relaxation, momentum
 from thesis.physics import terrain
 from thesis.physics.step import tether_geometry
 
@@ -88,7 +88,7 @@ def _model_kwargs(cfg) -> dict:
     return dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
                 knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
                 relaxation=float(m["relaxation"]), sweep_order=str(m["sweep_order"]),
-                contact_relaxation=contact_relaxation(m),
+                contact_relaxation=contact_relaxation(m), momentum=momentum(m),
                 tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
                 tether_stiffness=float(t["stiffness"]), tether_damping=float(t["damping"]),
                 tether_width=float(t["width"]))

@@ -38,19 +38,27 @@ def param_label(name: str) -> str:
 
 @functools.lru_cache(maxsize=4)
 def _model(dt: float, iterations: int, knee_spring: float, warm_start: float,
-           relaxation: float, sweep_order: str, contact_relaxation: float | None):
+           relaxation: float, sweep_order: str, contact_relaxation: float | None,
+           momentum: float):
     return O.oncilla(dt=dt, solver_iterations=iterations, knee_spring=knee_spring,
                      warm_start=warm_start, relaxation=relaxation, sweep_order=sweep_order,
-                     contact_relaxation=contact_relaxation)
+                     contact_relaxation=contact_relaxation, momentum=momentum)
 
 
 def model_of(cfg):
     """(Model, State) of the configured Oncilla (``model``: dt, sweeps, the fitted knee
-    spring, the solver's warm start, relaxation, sweep order and contact relaxation)."""
+    spring, the solver's warm start, relaxation, sweep order, contact relaxation and
+    momentum)."""
     m = cfg["model"]
     return _model(float(m["dt"]), int(m["solver_iterations"]), float(m["knee_spring"]),
                   float(m["warm_start"]), float(m["relaxation"]), str(m["sweep_order"]),
-                  contact_relaxation(m))
+                  contact_relaxation(m), momentum(m))
+
+
+def momentum(m: dict) -> float:
+    """The ``model`` section's ``momentum`` (the engine's 0.85 where absent; only the
+    ``momentum`` sweep order reads it, :mod:`thesis.physics.solver`)."""
+    return float(m.get("momentum", 0.85))
 
 
 def contact_relaxation(m: dict) -> float | None:
