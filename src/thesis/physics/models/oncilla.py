@@ -123,7 +123,10 @@ its reason; nothing is fitted to a result of the thesis):
   more than 10 % under twice its sweeps (480). By that rule the chapters keep blocks
   first. **Warm start** (``warm_start``): the engine's
   0.85; 1.0 helps the Jacobi order (120 sweeps then give about 480's speeds) but was not
-  needed.
+  needed. **Momentum order** (``sweep_order="momentum"``, ``momentum``; opt-in, no
+  chapter uses it): the blocks-first sweeps from extrapolated impulses
+  (:mod:`thesis.physics.solver`, Momentum), at relaxation 0.6 with the contact rows at
+  0.3; ``thesis bench solver`` measures its sweeps against the direct solution.
 * **Drives** (ONCILLA.md HW, TH §6.1). The hip and knee motors are brushless motors with
   position drivers: compliant drives (``Builder.add_compliant_servo``), a PD law on the
   motor angle with stiffness ``drive_stiffness`` 20 N m/rad and damping
