@@ -79,6 +79,7 @@ EXPERIMENTS: dict[str, str] = {
     "physics/sphere_field": "thesis.physics.bench:sphere_field",
     # model-level checks of the Oncilla (results/<profile>/model/)
     "model/oncilla": "thesis.modelcheck.bench:oncilla",
+    "model/solver": "thesis.modelcheck.solver_bench:solver",
     "model/validation": "thesis.modelcheck.validation:validation",
     "model/convergence": "thesis.modelcheck.validation:convergence",
     "model/calibration": "thesis.modelcheck.calibration:calibration",
@@ -101,6 +102,7 @@ BENCHMARKS: dict[str, str] = {
     "mjx": "ch7/table7_1_peers",
     "field": "physics/sphere_field",
     "oncilla": "model/oncilla",
+    "solver": "model/solver",
 }
 
 #: Measurements behind the configuration's sizes, made outside the default target
@@ -179,6 +181,8 @@ READS: dict[str, tuple[str, ...]] = {
     "physics/sphere_field": ("physics.sphere_field",),
     "model/oncilla": ("physics.oncilla_model", "ch4.model", "ch4.protocol.settle",
                       "ch4.protocol.fall_height"),
+    "model/solver": ("physics.solver_bench", "ch4.model", "ch4.protocol.settle",
+                     "ch5.model", "ch5.gaits", "ch5.recordings.sample_rate"),
     "model/validation": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
                          "ch4.protocol.settle", "ch4.protocol.fall_height"),
     "model/convergence": ("physics.oncilla_validation", "ch4.model", "ch4.tether",

@@ -94,3 +94,66 @@ def test_servo_command_gradient_at_zero_error_without_dead_band():
     g_band = grad(0.0, 0.01)
     assert np.isfinite(g0) and abs(float(g0)) > 1e-6
     assert float(g_band) == 0.0
+
+
+def _momentum(m):
+    """``m`` with the momentum sweep order (solver module docstring, Momentum)."""
+    return m.replace(sweep_order="momentum", momentum=0.85,
+                     relaxation=jnp.asarray(0.6, m.body_mass.dtype))
+
+
+@pytest.mark.slow
+def test_finite_differences_through_the_momentum_order(x64):
+    """Gradients through the extrapolated, projected and restarted sweeps match central
+    finite differences: a servo command and a mass scale of the arm (joints, servos),
+    and the launch speed and friction of a sliding ball (contact rows only)."""
+    m, s = arm4(dtype=jnp.float64, solver_iterations=10, servo_deadband=0.0)
+    m = _momentum(m)
+    ctrl = lambda p, sens, mem, t: (p * jnp.asarray([1.0, 0.5, -1.0, 0.8]), mem)  # noqa
+
+    def effector_x(p, scale):
+        mm = m.replace(body_mass=m.body_mass * scale)
+        return rollout(mm, s, ctrl, p, 20)[0].pos[4, 0]
+
+    f = jax.jit(effector_x)
+    gp, gs = jax.jit(jax.grad(effector_x, argnums=(0, 1)))(0.02, 1.0)
+    fd_p, fd_s = _fd(lambda p: f(p, 1.0), 0.02), _fd(lambda c: f(0.02, c), 1.0)
+    print(float(gp), float(fd_p), float(gs), float(fd_s))
+    assert abs(float(gp)) > 1e-3 and abs(float(gs)) > 1e-6
+    np.testing.assert_allclose(gp, fd_p, rtol=1e-2)
+    np.testing.assert_allclose(gs, fd_s, rtol=1e-2)
+
+    mb, sb = ball(height=0.5, velocity=(2.0, 0.0, 0.0), friction=0.1, dtype=jnp.float64,
+                  solver_iterations=5)
+    mb = _momentum(mb)
+    none = lambda p, sens, mem, t: (jnp.zeros((0,), jnp.float64), mem)  # noqa: E731
+
+    def final_x(vx, mu):
+        mm = mb.replace(material_friction=mb.material_friction.at[:].set(mu))
+        return rollout(mm, sb.replace(vel=sb.vel.at[0, 0].set(vx)), none, None, 40)[0].pos[0, 0]
+
+    g = jax.jit(final_x)
+    gv, gmu = jax.jit(jax.grad(final_x, argnums=(0, 1)))(2.0, 0.1)
+    print(float(gv), float(gmu))
+    np.testing.assert_allclose(gv, _fd(lambda v: g(v, 0.1), 2.0), rtol=1e-2)
+    np.testing.assert_allclose(gmu, _fd(lambda u: g(2.0, u), 0.1), rtol=1e-2)
+    assert gmu < 0
+
+
+@pytest.mark.slow
+def test_momentum_order_gradient_is_finite_over_a_ten_second_rollout():
+    """The arm swinging for 10 s (1,000 steps) with the momentum order: the gradient of
+    its final effector position w.r.t. the command amplitude and the masses is finite."""
+    m, s = arm4(solver_iterations=10, servo_deadband=0.0)
+    m = _momentum(m)
+
+    def ctrl(p, sens, mem, t):
+        return p * jnp.sin(2.0 * jnp.pi * 0.5 * t) * jnp.asarray([1.0, 0.5, -1.0, 0.8]), mem
+
+    def loss(p, scale):
+        mm = m.replace(body_mass=m.body_mass * scale)
+        return jnp.sum(rollout(mm, s, ctrl, p, 1000)[0].pos[4])
+
+    g = jax.jit(jax.grad(loss, argnums=(0, 1)))(0.3, 1.0)
+    print(g)
+    assert _all_finite(g) and abs(float(g[0])) > 0

@@ -121,15 +121,18 @@ def test_batched_rollout_splits_over_two_host_devices():
     assert out.returncode == 0 and "OK" in out.stdout, out.stderr[-2000:]
 
 
-def test_batched_solver_matches_the_unbatched_in_value_and_gradient():
+@pytest.mark.parametrize("order", ["jacobi", "momentum"])
+def test_batched_solver_matches_the_unbatched_in_value_and_gradient(order):
     """Model.batched (the solver's robots-last vmap rule) = the unbatched solver on the
     quadruped walking into ground contact (many rows per body, torso included): the value
     and its gradient w.r.t. each robot's own controller gain (vmap of grad), and the
     gradient w.r.t. parameters shared by every robot (masses, relaxation), which is summed
-    over the batch, in both orders of grad and vmap."""
+    over the batch, in both orders of grad and vmap; in the chapter-7 order (Jacobi) and
+    in the momentum order, whose restart is decided per robot."""
     from thesis.physics.models import quadruped
 
     m, s = quadruped()
+    m = m.replace(sweep_order=order)
 
     def ctrl(p, sens, mem, t):
         return p * jnp.sin(6.0 * t + jnp.arange(8.0)), mem

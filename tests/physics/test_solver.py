@@ -164,7 +164,8 @@ def test_blocks_first_sweeps_reach_the_same_solution_far_sooner(x64):
 
 
 def test_an_unknown_sweep_order_is_refused_with_the_allowed_ones():
-    with pytest.raises(ValueError, match="sweep_order must be one of.*jacobi.*blocks_first"):
+    with pytest.raises(ValueError,
+                       match="sweep_order must be one of.*jacobi.*blocks_first.*momentum"):
         Builder("x", sweep_order="gauss_seidel")
 
 
@@ -214,3 +215,73 @@ def test_contact_relaxation_equal_to_relaxation_changes_nothing(x64):
 def test_a_contact_relaxation_outside_0_1_is_refused(value):
     with pytest.raises(ValueError, match=r"contact_relaxation must be None or in \(0, 1\]"):
         Builder("x", contact_relaxation=value)
+
+
+def _solve_report(m, problem, iterations):
+    v0, inv_m, inv_iw, blocks, rows = problem
+    z = jnp.zeros((m.n_joint, 6), v0.dtype)
+    return solver.solve(m.replace(solver_iterations=iterations), v0, inv_m, inv_iw, blocks,
+                        rows, z, jnp.zeros(rows["bias"].shape, v0.dtype), report=True)
+
+
+def test_momentum_sweeps_reach_the_same_solution_sooner_than_blocks_first(x64):
+    """The momentum order (blocks-first sweeps with extrapolated impulses, solver module
+    docstring, Momentum) converges to the direct solution of the equality system, in
+    fewer sweeps than blocks first; at relaxation 1 it would not (eigenvalues of the
+    blocks-first sweep near -1, amplified by the extrapolation)."""
+    m, s = _leg_under_trunk()
+    problem = _problem(m, s)
+    jmat, minv, a, rhs, _ = _dense(m, *problem)
+    v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ np.linalg.solve(a, rhs)
+    scale = np.abs(v_direct).max()
+    first = m.replace(relaxation=jnp.asarray(1.0), sweep_order="blocks_first")
+    mom = m.replace(relaxation=jnp.asarray(0.5), sweep_order="momentum")
+    err = {name: [np.abs(_solve(mk, problem, k) - v_direct).max() / scale
+                  for k in (20, 40, 2000)]
+           for name, mk in (("blocks_first", first), ("momentum", mom))}
+    print(err)
+    assert err["momentum"][-1] < 1e-9, err
+    assert err["momentum"][0] < 0.5 * err["blocks_first"][0], err
+    assert err["momentum"][1] < 0.1 * err["blocks_first"][1], err
+
+
+def test_momentum_sweeps_solve_the_contact_lcp(x64):
+    """The momentum order's projection after extrapolation keeps the tilted box's contact
+    LCP (test above) at its enumerated solution."""
+    b = Builder("lcp", dt=0.01, sweep_order="momentum", relaxation=0.5)
+    b.add_material("m", 0.0, 0.0, 25.0, 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, "m")
+    b.add_box("box", (0.6, 0.4, 0.1), (0, 0, 0.095))
+    for x in (-0.25, 0.25):
+        for y in (-0.15, 0.15):
+            b.add_contact_sphere("box", 0.05 + 0.004 * (x > 0) + 0.002 * (y > 0),
+                                 (x, y, -0.05))
+    b.set_velocity("box", (0, 0, -0.8), (0.4, 0.3, 0))
+    m, s = b.build(jnp.float64)
+    problem = _problem(m, s)
+    first = m.replace(sweep_order="blocks_first")
+    v_ref = _solve(first, problem, 4000)
+    err = [np.abs(_solve(m, problem, k) - v_ref).max() for k in (2, 20, 400)]
+    print(err)
+    assert err[-1] < 1e-9 and err[-1] < err[0], err
+
+
+@pytest.mark.parametrize("order", ["blocks_first", "momentum"])
+def test_the_solve_reports_a_residual_that_falls_to_zero(x64, order):
+    """``report=True`` adds the final relative residual and changes nothing else."""
+    m, s = _leg_under_trunk()
+    m = m.replace(sweep_order=order, relaxation=jnp.asarray(0.5))
+    problem = _problem(m, s)
+    res = [float(_solve_report(m, problem, k)[3]) for k in (5, 40, 4000)]
+    print(res)
+    assert res[0] > 1e-3 and res[0] > res[1] > 1e-10 > res[2], res
+    np.testing.assert_array_equal(np.asarray(_solve_report(m, problem, 40)[0]).reshape(-1),
+                                  _solve(m, problem, 40))
+    with pytest.raises(ValueError, match="one robot"):
+        _solve_report(m.replace(batched=True), problem, 5)
+
+
+@pytest.mark.parametrize("value", [-0.1, 1.0])
+def test_a_momentum_outside_0_1_is_refused(value):
+    with pytest.raises(ValueError, match=r"momentum must be in \[0, 1\)"):
+        Builder("x", momentum=value)

@@ -100,8 +100,12 @@ class Builder:
         (docs/sources.md#tpx-step).
         relaxation: Jacobi relaxation factor of the solver (see ``solver.py``).
         sweep_order: ``"jacobi"`` (default: every joint block and scalar row updated from
-            the same velocities) or ``"blocks_first"`` (the joint blocks, then the scalar
-            rows from the velocities the new block impulses give); see ``solver.py``.
+            the same velocities), ``"blocks_first"`` (the joint blocks, then the scalar
+            rows from the velocities the new block impulses give) or ``"momentum"``
+            (blocks-first sweeps with extrapolated impulses); see ``solver.py``.
+        momentum, momentum_restart: the ``"momentum"`` order's extrapolation factor in
+            [0, 1) and whether a sweep whose update grew drops it (``solver.py``,
+            Momentum); the other orders ignore both.
         contact_relaxation: None (default: ``relaxation``) or the relaxation factor of the
             contact rows alone (``solver.py``, Contact relaxation).
         joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
@@ -121,7 +125,8 @@ class Builder:
                  limit_hz=None, limit_zeta=1.0, reortho_iterations=1,
                  restitution_threshold=None, contact_slop=0.0, friction=0.5,
                  restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False,
-                 sweep_order="jacobi", contact_relaxation=None):
+                 sweep_order="jacobi", contact_relaxation=None, momentum=0.85,
+                 momentum_restart=True):
         self.name = name
         self.dt = float(dt)
         self.solver_iterations = int(solver_iterations)
@@ -136,6 +141,10 @@ class Builder:
                              f"{contact_relaxation!r}")
         self.contact_relaxation = (None if contact_relaxation is None
                                    else float(contact_relaxation))
+        if not 0.0 <= float(momentum) < 1.0:
+            raise ValueError(f"momentum must be in [0, 1), got {momentum!r}")
+        self.momentum = float(momentum)
+        self.momentum_restart = bool(momentum_restart)
         self.joint_hz = JOINT_HZ if joint_hz is None else float(joint_hz)
         self.joint_zeta = float(joint_zeta)
         self.limit_hz = LIMIT_HZ if limit_hz is None else float(limit_hz)

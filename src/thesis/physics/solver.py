@@ -28,6 +28,29 @@ after 120 sweeps at relaxation 0.3; blocks first, at relaxation 1.0, 120 sweeps 
 every row group within 3 % (``thesis.physics.models.oncilla``, Solver;
 ``tests/physics/test_solver.py``).
 
+Momentum (``sweep_order="momentum"``, ``model.momentum`` = beta, ``model.momentum_restart``).
+Blocks-first sweeps converge linearly and slowly on the Oncilla (the error falls about
+10x per 115 sweeps): every scalar row is updated with the effective mass of its two
+bodies, not of the mechanism behind them, so a toe's tangential force reaches the trunk
+about one joint per sweep. The momentum order runs the same blocks-first sweep T, but
+from extrapolated impulses (Nesterov's scheme on the fixed-point map, as in accelerated
+projected Gauss-Seidel / APGD solvers): ``x_{k+1} = T(y_k)``, ``y_{k+1} = P(x_{k+1} +
+beta (x_{k+1} - x_k))`` with P the rows' projection (bounds, friction cone) applied
+after the extrapolation. The joint blocks are not projected, so the velocity change of
+their extrapolated impulses is extrapolated in the same way and carried from sweep to
+sweep, not scattered again: a sweep still scatters each group once. On a mode of T
+with eigenvalue mu the extrapolation turns the rate mu into about sqrt(mu beta) near mu
+= 1 (a slow mode is sped up) but amplifies modes with mu near -1: blocks first at
+relaxation 1 has such modes on the Oncilla (the joint blocks of one leg's chain update
+in parallel and overshoot), so the momentum order needs an under-relaxation (0.6 with
+beta 0.85 in ``thesis bench solver``; at 1.0 it diverges). With ``momentum_restart`` a
+sweep whose update ``x_{k+1} - y_k`` points against the last change ``x_{k+1} - x_k``
+(a negative inner product in the metric of the softened Delassus diagonal D, per robot)
+does not extrapolate: the momentum has overshot (the gradient scheme of adaptive
+restart, O'Donoghue and Candes 2015). The test is a ``jnp.where``, so the sweeps stay
+branch-free, of static count and differentiable (piecewise, like the projections). The
+returned impulses are ``x``, projected; the fixed point is that of the other orders.
+
 Contact relaxation (``model.contact_relaxation``; None by default, the contact rows then
 use ``model.relaxation``). The contact rows of one sweep update in parallel from the same
 velocities in either order, so k contacts pressing on one light body (a toe on a pebble
@@ -132,7 +155,8 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows, cone_rows=None):
         dict of arrays with a leading row axis: ``v0``; joint blocks ``mask`` (the static
         mask with the batch axes), ``ja``, ``jb``,
         ``wa``, ``wb`` (M^-1 J^T), ``a_inv`` (inverse of the softened 6x6 block),
-        ``bias_j``, ``cfm_j``; scalar rows ``rja``, ``rjb``, ``wra``, ``wrb``, ``m_c``
+        ``bias_j``, ``cfm_j``, ``d_j`` (the softened block's diagonal, 0 on unused
+        rows); scalar rows ``rja``, ``rjb``, ``wra``, ``wrb``, ``m_c``
         (effective mass), ``cfm``, ``bias``, ``lo``, ``hi``, ``fric`` and, for
         directional friction, ``fric_lo``.
     """
@@ -164,7 +188,8 @@ def _prepare(mask, idx, v0, inv_m, inv_iw, blocks, rows, cone_rows=None):
         pair = 2.0 / jnp.maximum(d[t1] + cfm[t1] + d[t2] + cfm[t2], 1e-12)
         m_c = jnp.concatenate([m_c[:first], pair, pair, m_c[first + 2 * n:]])
     out = dict(v0=v0, mask=mask, ja=ja, jb=jb, wa=wa, wb=wb, a_inv=inv_spd(a_soft, axis=1),
-               bias_j=blocks["bias"], cfm_j=cfm_blk, rja=rows["ja"], rjb=rows["jb"],
+               bias_j=blocks["bias"], cfm_j=cfm_blk, d_j=(diag + cfm_blk) * mask,
+               rja=rows["ja"], rjb=rows["jb"],
                wra=wra, wrb=wrb, m_c=m_c, cfm=cfm,
                bias=rows["bias"], lo=rows["lo"], hi=rows["hi"], fric=rows["fric"])
     if "fric_lo" in rows:  # directional friction (static)
@@ -195,7 +220,7 @@ def cone(a, b, lam_n, mu1, mu2):
     return jnp.where(pos1, a * scale, 0.0), jnp.where(pos2, b * scale, 0.0)
 
 
-def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
+def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=False):
     """The static number of block-Jacobi sweeps and the final velocities.
 
     Written for arrays with a leading row axis and any number of *trailing* batch axes
@@ -209,8 +234,10 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
         relax: relaxation factor (scalar or (*B,)); the contact rows take
             ``m.contact_relaxation`` instead where it is set. c: dict of :func:`_prepare`.
         lam_joint0 (n_joint, 6, *B), lam_row0 (n_rows, *B): warm start.
+        report: also return the final relative residual (:func:`solve`).
     Returns:
-        (v (n_body + 1, 6, *B), lam_joint, lam_row).
+        (v (n_body + 1, 6, *B), lam_joint, lam_row), and with ``report`` the relative
+        residual (*B).
     """
     ba, bb, ra, rb = idx
     ref, is_fric, cone_rows = fric_idx
@@ -287,16 +314,57 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0):
         v_joints = dv_joints(lj)
         return lj, row_update(lr, v0 + v_joints + v_rows), v_joints
 
+    def dot(aj, ar, bj, br):  # D-inner product of block and row impulses, per robot: (*B)
+        return (jnp.sum(c["d_j"] * aj * bj, axis=(0, 1))
+                + jnp.sum(ar * br / c["m_c"], axis=0))
+
+    beta = float(m.momentum)
+
+    def sweep_momentum(_, carry):
+        # x: the last sweep's impulses (projected); y: their extrapolation, from which
+        # this sweep starts; dv_x, dv_y: the blocks' velocity changes of x and y (linear
+        # in the unprojected block impulses, so y's is extrapolated, not scattered)
+        xj, xr, yj, yr, dv_x, dv_y = carry
+        v_rows = dv_rows(yr)
+        xj1 = block_update(yj, v0 + dv_y + v_rows)
+        dv1 = dv_joints(xj1)
+        xr1 = row_update(yr, v0 + dv1 + v_rows)
+        # restart: this sweep's update turned against the last change of x
+        turned = dot(xj1 - yj, xr1 - yr, xj1 - xj, xr1 - xr) < 0
+        b = jnp.where(turned, 0.0, beta) if m.momentum_restart else beta
+        b = jnp.asarray(b, dtype)
+        bj, br = b.reshape((1, 1) + b.shape), b.reshape((1,) + b.shape)
+        yj = xj1 + bj * (xj1 - xj)
+        dv_y = dv1 + bj * (dv1 - dv_x)
+        yr = project(xr1 + br * (xr1 - xr))
+        return xj1, xr1, yj, yr, dv1, dv_y
+
     lam = (lam_joint0 * mask, project(lam_row0))
     if m.sweep_order == "blocks_first":
         lj, lr, _ = jax.lax.fori_loop(0, m.solver_iterations, sweep_blocks_first,
                                       lam + (dv_joints(lam[0]),))
+    elif m.sweep_order == "momentum":
+        dv0 = dv_joints(lam[0])
+        lj, lr = jax.lax.fori_loop(0, m.solver_iterations, sweep_momentum,
+                                   lam + lam + (dv0, dv0))[:2]
     else:
         lj, lr = jax.lax.fori_loop(0, m.solver_iterations, sweep, lam)
-    return velocities(lj, lr), lj, lr
+    v = velocities(lj, lr)
+    if not report:
+        return v, lj, lr
+    # the natural residual of the final impulses: one exact block step and one projected
+    # row step at relaxation 1 from them, measured in the D-norm, relative to the impulses
+    jv_j = bmv(c["ja"], v[ba]) + bmv(c["jb"], v[bb])
+    r_j = bmv(c["a_inv"], (jv_j + c["bias_j"] + c["cfm_j"] * lj) * mask)
+    jv_r = jnp.sum(c["rja"] * v[ra], axis=1) + jnp.sum(c["rjb"] * v[rb], axis=1)
+    r_r = lr - project(lr - c["m_c"] * (jv_r + c["bias"] + c["cfm"] * lr))
+    tiny = jnp.asarray(jnp.finfo(dtype).tiny, dtype)
+    rel = jnp.sqrt(dot(r_j, r_r, r_j, r_r) / jnp.maximum(dot(lj, lr, lj, lr), tiny))
+    return v, lj, lr, rel
 
 
-def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
+def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0, *,
+          report=False):
     """Solve for post-step velocities and impulses.
 
     Args:
@@ -306,8 +374,14 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
             ``gamma`` (n_joint, 6) relative softness, with static ``body_a``/``body_b``.
         rows: dict from ``constraint.scalar_rows``.
         lam_joint0 (n_joint, 6), lam_row0 (n_rows,): warm-start impulses [N s].
+        report: (static) also return the final relative residual, a debug output of one
+            robot (not available with ``m.batched``): the natural residual of the final
+            impulses (one exact block step and one projected row step at relaxation 1
+            from them), relative to the impulses, both in the norm of the softened
+            Delassus diagonal D (sum of D_ii lambda_i^2, an energy); 0 at the solution.
     Returns:
-        (v, lam_joint, lam_row): final velocities (n_body + 1, 6) and impulses.
+        (v, lam_joint, lam_row): final velocities (n_body + 1, 6) and impulses; with
+        ``report`` a fourth entry, the relative residual ().
 
     With ``m.batched`` the function carries a custom ``jax.vmap`` rule
     (:func:`_solve_batch_last`); otherwise it is the plain single-robot solver.
@@ -319,9 +393,11 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0):
 
     def single(relax, v0_, inv_m_, inv_iw_, blk_, row_, lj0, lr0):
         c = _prepare(m.joint_row_mask, idx, v0_, inv_m_, inv_iw_, blk_, row_, fric_idx[2])
-        return _sweeps(m, idx, fric_idx, relax, c, lj0, lr0)
+        return _sweeps(m, idx, fric_idx, relax, c, lj0, lr0, report)
 
     args = (m.relaxation, v0, inv_m, inv_iw, blk, row, lam_joint0, lam_row0)
+    if report and m.batched:
+        raise ValueError("the solver's residual report is for one robot (batched=False)")
     if not m.batched:
         return single(*args)
     return _batched_solver(m, idx, fric_idx, single)(*args)

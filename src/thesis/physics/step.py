@@ -21,7 +21,8 @@ from thesis.physics import collision, constraint, integrator, kinematics, solver
 from thesis.physics.math import decay_gradient, mv, safe_norm
 from thesis.physics.types import Model, State
 
-__all__ = ["step", "spring_geometry", "tether_geometry", "field_warm_start",
+__all__ = ["step", "solver_problem", "SOLVER_ARGS", "spring_geometry", "tether_geometry",
+           "field_warm_start",
            "toi_correction"]
 
 
@@ -118,22 +119,22 @@ def toi_correction(m: Model, contacts, vel, angvel):
                                ).clip(0.0)
 
 
-def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
-    """Advance ``state`` by ``model.dt``.
+#: Keys of :func:`solver_problem` that are :func:`thesis.physics.solver.solve`'s arguments,
+#: in its order.
+SOLVER_ARGS = ("v0", "inv_m", "inv_iw", "blocks", "rows", "guess_joint", "guess_row")
 
-    Args:
-        model: the Model. state: the State.
-        action: (n_servo,) servo commands (rad / m for position servos, rad/s / m/s for
-            velocity servos).
-        warm_start_grad: fraction of the gradient that flows through the warm start (last
-            step's impulses as the solver's initial guess, docs/sources.md#tpx-step step 4); the
-            forward pass is unchanged. 1.0 (default) is the exact derivative of the truncated
-            solver; 0.0 treats the initial guess as a constant, as the derivative of a converged
-            solve would (its solution does not depend on the guess). Measured on the Tab. 7.1
-            quadruped's closed loop: the gradient grows x1.31 per step with the warm start (0.85)
-            and x1.03 with warm start 0.
+
+def solver_problem(model: Model, state: State, action, *, warm_start_grad=1.0) -> dict:
+    """Steps 1-3 of :func:`step` up to the solve: the velocity-level problem of this step.
+
+    Args: as :func:`step`.
     Returns:
-        The next State (its ``joint_impulse``/``row_impulse`` are this step's impulses).
+        dict: ``v0`` (n_body + 1, 6) velocities after external forces, ``inv_m``,
+        ``inv_iw`` (:func:`thesis.physics.solver.inverse_mass`), ``blocks`` and ``rows``
+        (the constraint rows), ``guess_joint`` (n_joint, 6) and ``guess_row`` (n_rows,)
+        the warm start (``model.warm_start`` times last step's impulses), and the step's
+        ``contacts`` (:func:`thesis.physics.collision.detect`); ``solver.solve(model,
+        *(problem[k] for k in SOLVER_ARGS))`` is the step's solve.
     """
     m, s = model, state
     dt = m.dt
@@ -159,8 +160,34 @@ def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
             guess_r = field_warm_start(m, guess_r, s.field_id, contacts["field_id"])
         if not (isinstance(warm_start_grad, (int, float)) and warm_start_grad == 1.0):
             guess_j, guess_r = decay_gradient((guess_j, guess_r), warm_start_grad)
-        v, lam_j, lam_r = solver.solve(m, v0, inv_m, inv_iw, blocks, rows,
-                                       m.warm_start * guess_j, m.warm_start * guess_r)
+    return dict(v0=v0, inv_m=inv_m, inv_iw=inv_iw, blocks=blocks, rows=rows,
+                guess_joint=m.warm_start * guess_j, guess_row=m.warm_start * guess_r,
+                contacts=contacts)
+
+
+def step(model: Model, state: State, action, *, warm_start_grad=1.0) -> State:
+    """Advance ``state`` by ``model.dt``.
+
+    Args:
+        model: the Model. state: the State.
+        action: (n_servo,) servo commands (rad / m for position servos, rad/s / m/s for
+            velocity servos).
+        warm_start_grad: fraction of the gradient that flows through the warm start (last
+            step's impulses as the solver's initial guess, docs/sources.md#tpx-step step 4); the forward
+            pass is unchanged. 1.0 (default) is the exact derivative of the truncated
+            solver; 0.0 treats the initial guess as a constant, as the derivative of a
+            converged solve would (its solution does not depend on the guess). Measured on
+            the Tab. 7.1 quadruped's closed loop: the gradient grows x1.31 per step with
+            the warm start (0.85) and x1.03 with warm start 0.
+    Returns:
+        The next State (its ``joint_impulse``/``row_impulse`` are this step's impulses).
+    """
+    m, s = model, state
+    dt = m.dt
+    p = solver_problem(m, s, action, warm_start_grad=warm_start_grad)
+    contacts = p["contacts"]
+    with jax.named_scope("solver"):
+        v, lam_j, lam_r = solver.solve(m, *(p[k] for k in SOLVER_ARGS))
     with jax.named_scope("integrate"):
         nb = m.n_body
         new_pos, new_rot, new_w = integrator.integrate(m, s.pos, s.rot, v[:nb, :3], v[:nb, 3:])

@@ -117,7 +117,7 @@ def _register(cls):
 
 #: Orders of the updates within one solver sweep (``Model.sweep_order``,
 #: :mod:`thesis.physics.solver`).
-SWEEP_ORDERS = ("jacobi", "blocks_first")
+SWEEP_ORDERS = ("jacobi", "blocks_first", "momentum")
 
 
 class _Replace:
@@ -136,8 +136,12 @@ class Model(_Replace):
         n_body: number of dynamic bodies (the world is index ``n_body``).
         body_names: (n_body,) names.
         solver_iterations: block-Jacobi PGS sweeps per step.
-        sweep_order: ``"jacobi"`` or ``"blocks_first"``, the order of the updates within
-            a sweep (:data:`SWEEP_ORDERS`, :mod:`thesis.physics.solver`).
+        sweep_order: ``"jacobi"``, ``"blocks_first"`` or ``"momentum"``, the order of the
+            updates within a sweep (:data:`SWEEP_ORDERS`, :mod:`thesis.physics.solver`).
+        momentum: extrapolation factor beta in [0, 1) of the ``"momentum"`` order (the
+            others ignore it); momentum_restart: whether that order drops the
+            extrapolation for a sweep whose update grew (:mod:`thesis.physics.solver`,
+            Momentum).
         contact_relaxation: None (default: the contact rows use ``relaxation``) or the
             relaxation factor of the contact rows alone (normals, friction, torsion;
             :mod:`thesis.physics.solver`, Contact relaxation).
@@ -234,7 +238,7 @@ class Model(_Replace):
         "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched", "sweep_order",
-        "contact_relaxation",
+        "contact_relaxation", "momentum", "momentum_restart",
     )
 
     name: str
@@ -287,6 +291,8 @@ class Model(_Replace):
     batched: bool = False
     sweep_order: str = "jacobi"
     contact_relaxation: float | None = None
+    momentum: float = 0.85
+    momentum_restart: bool = True
 
     dt: Any
     gravity: Any

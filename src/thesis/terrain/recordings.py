@@ -286,13 +286,16 @@ def generate(cfg: dict, root_seed: int, *, log=None, experiment: str = "ch5/pupp
     rec = cfg["recordings"]
     rate = float(rec["sample_rate"])
     mcfg = cfg["model"]
+    solver = dict(sweep_order=str(mcfg.get("sweep_order", "jacobi")),
+                  relaxation=float(mcfg.get("relaxation", 0.3)),
+                  momentum=float(mcfg.get("momentum", 0.85)))
     model, state0 = _puppy().puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"],
-                                   skin_ratio=mcfg["skin_ratio"])
+                                   skin_ratio=mcfg["skin_ratio"], **solver)
     steps = int(round(1.0 / rate / float(mcfg["dt"])))
     if abs(steps * float(mcfg["dt"]) * rate - 1.0) > 1e-9:
         raise ValueError(f"ch5.model.dt={mcfg['dt']} does not divide the sample period "
                          f"1/{rate} s")
-    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"])
+    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"], *solver.values())
     _MODELS[key] = model
     table = trial_table(cfg, seeding.rng(root_seed, experiment + "/trials"))
     n_dev = min(jax.device_count(), int(rec["batch"]))

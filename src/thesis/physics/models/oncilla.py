@@ -115,7 +115,10 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   not converged either: Tab. 4.2's flat optimum at 2.6 Hz moves by more than 10 % under
   twice its sweeps (480). By that rule the chapters keep blocks first. **Warm start**
   (``warm_start``): the engine's 0.85; 1.0 helps the Jacobi order (120 sweeps then give
-  about 480's speeds) but was not needed.
+  about 480's speeds) but was not needed. **Momentum order** (``sweep_order="momentum"``,
+  ``momentum``; opt-in, no chapter uses it): the blocks-first sweeps from extrapolated
+  impulses (:mod:`thesis.physics.solver`, Momentum), at relaxation 0.6 with the contact
+  rows at 0.3; ``thesis bench solver`` measures its sweeps against the direct solution.
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
@@ -268,7 +271,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
             contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi",
-            contact_relaxation=None):
+            contact_relaxation=None, momentum=0.85):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -280,7 +283,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         relaxation, sweep_order, contact_relaxation: the solver's relaxation factor, the
             order of its updates within a sweep and the contact rows' own relaxation
             factor (None: ``relaxation``) (:mod:`thesis.physics.solver`; module
-            docstring, Solver).
+            docstring, Solver). momentum: the extrapolation factor of the
+            ``"momentum"`` order (ignored by the others).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -323,7 +327,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
                 contact_hz=contact_hz, restitution=restitution, contact_slop=0.001,
                 warm_start=warm_start, sweep_order=sweep_order,
-                contact_relaxation=contact_relaxation)
+                contact_relaxation=contact_relaxation, momentum=momentum)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, float(contact_hz), 1.0)

@@ -3,9 +3,10 @@
 
 Chapters 3, 4 and 6 (and the model's validation) configure the robot in a ``model``
 section (config/schema.yaml: ``dt``, ``solver_iterations``, ``knee_spring``,
-``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation`` and, in ch6, the
-constraint softness ``joint_hz`` / ``contact_hz``) and chapter 4 its safety thread in a
-``tether`` section (§4.5). A key a section does not have keeps :func:`oncilla`'s default.
+``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``, the momentum
+order's ``momentum`` and, in ch6, the constraint softness ``joint_hz`` / ``contact_hz``)
+and chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
+have keeps :func:`oncilla`'s default.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from thesis.physics.models.oncilla import oncilla
 __all__ = ["oncilla_from_config", "oncilla_kwargs"]
 
 #: ``model`` keys passed on when present, with :func:`oncilla`'s default otherwise.
-_OPTIONAL_FLOATS = ("joint_hz", "contact_hz")
+_OPTIONAL_FLOATS = ("joint_hz", "contact_hz", "momentum")
 
 
 def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:

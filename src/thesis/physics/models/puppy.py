@@ -136,12 +136,15 @@ def puppy(*, dt=0.005, solver_iterations=120, relaxation=0.3, servo_gain=50.0,
           hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=3.0,
           knee_preload=0.1, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
           restitution=0.0, skin_ratio=0.5, joint_hz=JOINT_HZ, contact_hz=CONTACT_HZ,
-          dtype=jnp.float32):
+          sweep_order="jacobi", momentum=0.85, dtype=jnp.float32):
     """Build Puppy II standing on a flat floor (plane ``"floor"``, material
     ``"default"``); returns ``(Model, State)``.
 
     Args:
-        dt: physics step [s]; solver_iterations, relaxation: solver settings.
+        dt: physics step [s]; solver_iterations, relaxation: solver settings;
+            sweep_order, momentum: the solver's order of updates and the momentum
+            order's extrapolation factor (:mod:`thesis.physics.solver`; the default is
+            the Jacobi order every chapter-5 result used).
         servo_gain [1/s], hip_torque [N m], hip_velocity [rad/s]: hip position servos.
         hip_range: hip commands are clipped to +-hip_range of the build pose [rad].
         knee_spring [N m/rad], knee_preload [rad], knee_damping [N m s/rad]: the passive
@@ -157,7 +160,8 @@ def puppy(*, dt=0.005, solver_iterations=120, relaxation=0.3, servo_gain=50.0,
     """
     b = Builder("puppy", dt=dt, solver_iterations=solver_iterations, relaxation=relaxation,
                 friction=friction, restitution=restitution, contact_slop=0.001,
-                joint_hz=joint_hz, limit_hz=joint_hz, contact_hz=contact_hz)
+                joint_hz=joint_hz, limit_hz=joint_hz, contact_hz=contact_hz,
+                sweep_order=sweep_order, momentum=momentum)
     if not 0.0 < float(skin_ratio) <= 1.0:
         raise ValueError(f"puppy: skin_ratio must lie in (0, 1], got {skin_ratio}")
     default = b.materials[0]
