@@ -17,13 +17,16 @@ from thesis.physics.models.oncilla_config import oncilla_kwargs
 
 def _by_hand(ch: str, cfg: dict) -> dict:
     """The ``oncilla()`` arguments each chapter's own adapter passed (ch3 and ch4: the
-    solver and knee spring; ch4 also the tether; ch6 also the constraint softness)."""
+    solver, its momentum and the knee spring; ch4 also the tether; ch6 also the
+    constraint softness)."""
     m = cfg["model"]
     cr = m.get("contact_relaxation")
     kw = dict(dt=float(m["dt"]), solver_iterations=int(m["solver_iterations"]),
               knee_spring=float(m["knee_spring"]), warm_start=float(m["warm_start"]),
               relaxation=float(m["relaxation"]), sweep_order=str(m["sweep_order"]),
               contact_relaxation=None if cr is None else float(cr))
+    if "momentum" in m:  # the momentum order's extrapolation factor (schema default 0.85)
+        kw.update(momentum=float(m["momentum"]))
     if ch == "ch6":
         kw.update(joint_hz=float(m["joint_hz"]), contact_hz=float(m["contact_hz"]))
     if ch == "ch4":
