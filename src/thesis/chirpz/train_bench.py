@@ -29,7 +29,8 @@ identity (a random localisation output layer), training mode (dropout as configu
 Work: ``step_flops`` is XLA's count of the floating-point operations of the lowered
 training step (:func:`step_flops`; shapes only), the same on every device; with
 ``ch2.train_bench.timed`` false only it is computed (seconds NaN), which is how the work
-of the Tab. 2.1 networks is counted on a machine too slow to time them (config/gpu.yaml).
+of the Tab. 2.1 networks is counted on a machine too slow to time them (the gpu profile's
+sizing, config/gpu.yaml, names this count).
 
 Timing: every function of a cell is compiled and run once untimed, then the functions run
 in turn ``repeats`` times (interleaved, so that load from other processes falls on all of

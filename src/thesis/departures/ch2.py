@@ -70,9 +70,9 @@ DEPARTURES: tuple[Departure, ...] = (
             "training loss equal to test loss); in the pilot the wide classifier "
             "behind the narrow localisation network reaches at 1 000 updates about half the "
             "error the narrow network reaches at 2 500, and widening the localisation "
-            "network too costs more per update for no gain. Tab. 2.1's widths (150 GFLOP per "
-            "update of FFN-SPN at d = 1, batch 100) do "
-            "not fit 90 minutes on two CPU cores (config/gpu.yaml). The comparisons of the "
+            "network too costs more per update for no gain. Tab. 2.1's widths do not fit 90 "
+            "minutes on two CPU cores (their work per update: `snakemake ch2_train_step "
+            "--config profile=gpu`, train_step.nc, step_flops). The comparisons of the "
             "claims are between transforms of the same network.",
         config=("ch2.ffn_spn.loc_filters", "ch2.ffn_spn.loc_dense", "ch2.ffn_spn.cls_filters",
                 "ch2.ffn_spn.cls_dense", "ch2.rnn_spn.loc_filters", "ch2.rnn_spn.gru_units",
@@ -164,7 +164,7 @@ DEPARTURES: tuple[Departure, ...] = (
             "and the width pilot, `snakemake ch2_pilot`: train_step.nc, width_pilot.nc); "
             "FFN-SPN "
             "d = 2 gets about the length (2 280 updates) at which the width pilot's chosen "
-            "widths come to about 6 %. The budget is spent on many distinct sequences "
+            "widths reach their error (width_pilot.nc). The budget is spent on many distinct sequences "
             "rather than many passes over few: 8 000 sequences are overfitted (training "
             "error 0, test error flat after epoch 5). An "
             "RNN-SPN update costs about twice an FFN-SPN one, so RNN-SPN trains fewer.",
