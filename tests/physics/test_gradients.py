@@ -30,15 +30,22 @@ def test_finite_differences_through_sliding_contact(x64):
     assert gmu < 0  # more friction, shorter slide
 
 
-@pytest.mark.slow
-def test_finite_differences_through_servos_and_morphology(x64):
-    m, s = arm4(dtype=jnp.float64, solver_iterations=5, servo_deadband=0.0)
+def _arm_effector_x(m, s):
+    """``(p, scale) -> x`` [m]: the arm's end effector x after 20 steps of fixed servo
+    commands ``p`` times a pattern, with every body mass scaled by ``scale``."""
     ctrl = lambda p, sens, mem, t: (p * jnp.asarray([1.0, 0.5, -1.0, 0.8]), mem)  # noqa
 
     def effector_x(p, scale):
         mm = m.replace(body_mass=m.body_mass * scale)
         return rollout(mm, s, ctrl, p, 20)[0].pos[4, 0]
 
+    return effector_x
+
+
+@pytest.mark.slow
+def test_finite_differences_through_servos_and_morphology(x64):
+    m, s = arm4(dtype=jnp.float64, solver_iterations=5, servo_deadband=0.0)
+    effector_x = _arm_effector_x(m, s)
     f = jax.jit(effector_x)
     # p small enough that gain * error stays below the velocity limit (smooth stretch)
     gp, gs = jax.jit(jax.grad(effector_x, argnums=(0, 1)))(0.02, 1.0)
@@ -108,17 +115,10 @@ def test_finite_differences_through_the_momentum_order(x64):
     finite differences: a servo command and a mass scale of the arm (joints, servos),
     and the launch speed and friction of a sliding ball (contact rows only)."""
     m, s = arm4(dtype=jnp.float64, solver_iterations=10, servo_deadband=0.0)
-    m = _momentum(m)
-    ctrl = lambda p, sens, mem, t: (p * jnp.asarray([1.0, 0.5, -1.0, 0.8]), mem)  # noqa
-
-    def effector_x(p, scale):
-        mm = m.replace(body_mass=m.body_mass * scale)
-        return rollout(mm, s, ctrl, p, 20)[0].pos[4, 0]
-
+    effector_x = _arm_effector_x(_momentum(m), s)
     f = jax.jit(effector_x)
     gp, gs = jax.jit(jax.grad(effector_x, argnums=(0, 1)))(0.02, 1.0)
     fd_p, fd_s = _fd(lambda p: f(p, 1.0), 0.02), _fd(lambda c: f(0.02, c), 1.0)
-    print(float(gp), float(fd_p), float(gs), float(fd_s))
     assert abs(float(gp)) > 1e-3 and abs(float(gs)) > 1e-6
     np.testing.assert_allclose(gp, fd_p, rtol=1e-2)
     np.testing.assert_allclose(gs, fd_s, rtol=1e-2)
