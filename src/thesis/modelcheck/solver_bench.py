@@ -30,7 +30,6 @@ over that of the constraints' whole velocity change,
 
 from __future__ import annotations
 
-import contextlib
 import importlib
 
 import jax
@@ -50,17 +49,6 @@ __all__ = ["solver", "oncilla_states", "puppy_states", "relative_errors", "solve
 
 #: The models of the bench, in dataset order.
 MODELS = ("oncilla", "puppy")
-
-
-@contextlib.contextmanager
-def _x64():
-    """float64 for the bench's states and solves, the previous setting restored after."""
-    previous = jax.config.jax_enable_x64
-    jax.config.update("jax_enable_x64", True)
-    try:
-        yield
-    finally:
-        jax.config.update("jax_enable_x64", previous)
 
 
 def _solver_kwargs(order: dict) -> dict:
@@ -224,7 +212,7 @@ def solver(ctx) -> xr.Dataset:
     names = [str(o["name"]) for o in orders]
     ref_cfg = cfg["reference"]
     settle = float(full["ch4"]["protocol"]["settle"])
-    with _x64():
+    with jax.enable_x64(True):  # float64 states and solves, restored after
         per_model = {}
         for name in MODELS:
             saved, model, labels = [], None, []
