@@ -63,9 +63,16 @@ def source_digest(path: Path) -> bytes:
 
     Comments, docstrings and layout do not change what a rule computes, so editing them
     does not rerun the hours of chapter jobs that read the file; any change of code
-    does. A file that does not parse is taken byte for byte.
+    does. A file that does not parse is taken byte for byte. The digest is kept per file
+    content: every rule of the workflow hashes the shared core packages, and parsing each
+    file once instead of once per rule is what keeps the Snakefile's parse in seconds.
     """
-    text = path.read_bytes()
+    return _text_digest(path.read_bytes())
+
+
+@lru_cache(maxsize=None)
+def _text_digest(text: bytes) -> bytes:
+    """:func:`source_digest` of one file's bytes."""
     try:
         tree = ast.parse(text)
     except (SyntaxError, ValueError):
