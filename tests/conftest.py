@@ -9,7 +9,9 @@ Tests never assert wall-clock time; long ones carry the ``slow`` marker.
 ``make test`` runs pytest on two workers (pytest-xdist, ``--dist loadfile``): the tests
 that read the smoke pipeline live in one module (``tests/pipeline/test_smoke.py``), so they
 share one worker and its session fixture runs once; they come first, because the pipeline
-is the longest job of the suite.
+is the longest job of the suite, and the other pipeline module (the real changes,
+``tests/pipeline/test_smoke_changes.py``, which reads only the committed references) goes
+to the other worker while the pipeline runs.
 """
 
 from __future__ import annotations
