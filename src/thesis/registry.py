@@ -84,6 +84,7 @@ EXPERIMENTS: dict[str, str] = {
     "model/convergence": "thesis.modelcheck.validation:convergence",
     "model/calibration": "thesis.modelcheck.calibration:calibration",
     "model/puppy_convergence": "thesis.modelcheck.puppy_convergence:convergence",
+    "model/puppy_contact": "thesis.modelcheck.puppy_contact:puppy_contact",
 }
 
 #: ``thesis validate <robot>`` -> registry keys it runs (the Oncilla's validation,
@@ -103,6 +104,7 @@ BENCHMARKS: dict[str, str] = {
     "field": "physics/sphere_field",
     "oncilla": "model/oncilla",
     "solver": "model/solver",
+    "puppy-contact": "model/puppy_contact",
 }
 
 #: Measurements behind the configuration's sizes, made outside the default target
@@ -188,6 +190,8 @@ READS: dict[str, tuple[str, ...]] = {
     "model/convergence": ("physics.oncilla_validation", "ch4.model", "ch4.tether",
                           "ch4.protocol.settle", "ch4.protocol.fall_height"),
     "model/puppy_convergence": ("physics.puppy_convergence", "ch5"),
+    "model/puppy_contact": ("physics.puppy_contact", "ch5.model", "ch5.terrains", "ch5.gaits",
+                            "ch5.recordings.sample_rate", "ch5.recordings.fallen_up"),
     "model/calibration": ("physics.oncilla_calibration", "physics.oncilla_validation",
                           "ch4.model", "ch4.tether", "ch4.protocol.settle",
                           "ch4.protocol.fall_height"),
