@@ -56,21 +56,30 @@ def test_touchdown_reads_the_first_peak_and_its_rise_from_a_step_series():
     # second step; force 0, 0, 2, 8, 10, 6 N
     depth = np.array([-0.5, 0.0, 0.5, 1.0, 1.2, 1.1]) * 1e-3
     force = np.array([0.0, 0.0, 2.0, 8.0, 10.0, 6.0])
-    peak, to_peak, rise, t_touch = PC.touchdown(force, depth, dt, 0.05, -1e-3)
+    peak, to_peak, rise, t_touch, steps = PC.touchdown(force, depth, dt, 0.05, -1e-3)
     assert t_touch == pytest.approx(2 * dt)
-    assert peak == 10.0 and to_peak == pytest.approx(3 * dt)
+    assert peak == 10.0 and to_peak == pytest.approx(3 * dt) and steps == 3
     # 10 % (1 N) at half of step 3's rise, 90 % (9 N) half-way from 8 to 10 N
     assert rise == pytest.approx((4.5 - 2.5) * dt)
+    # a jump to the peak within one step: 0.8 dt, flagged by its single step
+    jump = PC.touchdown(np.array([0.0, 0.0, 10.0, 4.0]), depth[:4], dt, 0.05, -1e-3)
+    assert jump[2] == pytest.approx(0.8 * dt) and jump[4] == 1
     assert np.isnan(PC.touchdown(force * 0, depth - 1.0, dt, 0.05, -1.0)[0])
 
 
-def test_bench_layout_units_and_physics_on_two_terrains():
-    """Foil (the stiffest contact, 50 Hz) and Styrofoam (25 Hz), one short gait: the
-    layout and units, the weight carried by the paws at rest within 1 %, the foam
+@pytest.fixture(scope="module")
+def tiny():
+    """The bench on foil (the stiffest contact, 50 Hz) and Styrofoam (25 Hz), one short
+    bound."""
+    return PC.puppy_contact(_ctx(terrains=["F", "S"],
+                                 gaits=[{"gait": "bound_right", "frequency": 1.0}],
+                                 settle=1.0, average=0.25, warmup=1.0, gait_seconds=1.0))
+
+
+def test_bench_layout_units_and_physics_on_two_terrains(tiny):
+    """The layout and units, the weight carried by the paws at rest within 1 %, the foam
     indenting more than the foil and touching down more slowly."""
-    ctx = _ctx(terrains=["F", "S"], gaits=[{"gait": "bound_right", "frequency": 1.0}],
-               settle=1.0, average=0.25, warmup=1.0, gait_seconds=1.0)
-    ds = PC.puppy_contact(ctx)
+    ds = tiny
     store.check_result(ds)  # units and long names on every variable
     assert list(ds["terrain"].values) == ["F", "S"]
     assert list(ds["paw"].values) == list(P.LEGS)
@@ -98,5 +107,28 @@ def test_bench_layout_units_and_physics_on_two_terrains():
     off = ds["off_ground_share"]
     assert ((off >= 0) & (off <= 1)).all()
     assert set(np.unique(ds["indentation_check"])) <= {"pass", "fail", "no source"}
+    unresolved = ds["rise_time_check"] == "unresolved"
+    assert (unresolved == (ds["rise_steps"] <= 1)).all()
     assert ds["off_ground_share"].attrs["check"].startswith("no source")
     assert not ds["turned_over"].any()
+
+
+def test_report_tables_read_the_dataset_and_say_not_run_without_it(tiny):
+    from thesis.report import puppy_contact as R
+    from thesis.report.chapters import model as chapter
+
+    terr, gaits = R.tables({R.KEY: tiny})
+    assert [r[0] for r in terr.rows] == ["F", "S"]
+    d = tiny.sel(terrain="S")
+    assert terr.rows[1][1].startswith(f"{float(d['indentation'].mean()):.2f} (0.58-1.34; ")
+    k = float(tiny["implied_stiffness"].sel(terrain="F").mean())
+    word = "pass" if 8.6 * 0.75 <= k <= 25 * 1.25 else "fail"
+    assert terr.rows[0][2] == f"{k:.2f} (8.60-25.00; {word})"
+    assert [R._range(r) for r in ((np.nan, 25.0), (0.22, np.nan), (np.nan, np.nan))] == [
+        "<= 25.00", ">= 0.22", "no source"]
+    assert R._verdict(["pass", "fail", "pass", "pass"]) == "3 of 4 pass"
+    assert gaits.rows[0][0] == "bound_right 1 Hz" and len(gaits.columns) == 5
+    assert tiny.attrs["unloading"] in gaits.note
+    empty = R.tables({})
+    assert all(t.rows[0][0] == "not run" for t in empty)
+    assert {"puppy_contact", "puppy_contact_gaits"} <= {t.id for t in chapter.tables({})}

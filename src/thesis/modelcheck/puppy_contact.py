@@ -25,7 +25,8 @@ per 50-Hz sample as in the recordings:
   which each paw's normal force is below ``off_ground_threshold`` (off the ground), and
   the knee's angle range and largest flexion over the steps in which the paw is on the
   ground (stance). A run whose trunk turns over (up axis below
-  ``ch5.recordings.fallen_up``) is flagged.
+  ``ch5.recordings.fallen_up``) is flagged and measured only up to the turn-over, as the
+  recordings stop a trial there (NaN if it turned over before the window).
 
 Sources (:data:`SOURCED`): docs/sources.md §5.3 gives, for one paw's static load
 m g / 4 = 3.68 N on a 12-mm silicone paw, the contact stiffness and indentation per
@@ -209,28 +210,31 @@ def _crossing(t: np.ndarray, y: np.ndarray, level: float) -> float:
 
 
 def touchdown(force: np.ndarray, depth: np.ndarray, dt: float, window: float,
-              depth0: float) -> tuple[float, float, float, float]:
+              depth0: float) -> tuple[float, float, float, float, float]:
     """(peak force [N], time from touchdown to it [s], 10-90 % rise time [s], touchdown
-    time [s]) of one paw's first touchdown, from its per-step ``force`` [N] and sphere
-    ``depth`` [m] (step k's values stamped at (k + 1) dt; module docstring) and its depth
-    at release ``depth0`` [m] (< 0: above the floor). All NaN if the paw never touches
-    the floor within the run or its window."""
+    time [s], steps with force on the rising edge up to the peak) of one paw's first
+    touchdown, from its per-step ``force`` [N] and sphere ``depth`` [m] (step k's values
+    stamped at (k + 1) dt; module docstring) and its depth at release ``depth0`` [m]
+    (< 0: above the floor). All NaN if the paw never touches the floor within the run or
+    its window. With one step on the edge (the force jumps to its peak within a step)
+    the rise is not resolved: 10-90 % of a one-step jump reads 0.8 dt whatever it was."""
     t = (np.arange(force.size) + 1.0) * dt
     t_touch = _crossing(np.concatenate([[0.0], t]), np.concatenate([[depth0], depth]), 0.0)
     if not np.isfinite(t_touch):
-        return (_NAN,) * 4
+        return (_NAN,) * 5
     win = (t >= t_touch) & (t <= t_touch + window + dt)
     if not win.any():
-        return (_NAN,) * 4
+        return (_NAN,) * 5
     k_peak = int(np.flatnonzero(win)[np.argmax(force[win])])
     peak = float(force[k_peak])
     if peak <= 0.0:
-        return (_NAN,) * 4
+        return (_NAN,) * 5
     # rising edge: from the touchdown (force 0) to the peak
     te = np.concatenate([[t_touch], t[win & (t <= t[k_peak])]])
     fe = np.concatenate([[0.0], force[win & (t <= t[k_peak])]])
     rise = _crossing(te, fe, 0.9 * peak) - _crossing(te, fe, 0.1 * peak)
-    return peak, float(t[k_peak] - t_touch), float(rise), float(t_touch)
+    return (peak, float(t[k_peak] - t_touch), float(rise), float(t_touch),
+            float(np.sum(fe > 0.0)))
 
 
 def _plan(ch5: dict, cfg: dict, root_seed: int):
@@ -306,33 +310,43 @@ def puppy_contact(ctx) -> xr.Dataset:
                     for p in range(n_p)]
                    for r in index["drop"]])  # (terrain, paw, 4)
 
-    # gaits: the measured window
+    # gaits: the measured window, up to the step before the trunk turns over (the
+    # recordings stop a trial there too)
     g0 = int(round(float(cfg["warmup"]) / dt))
     g1 = g0 + int(round(float(cfg["gait_seconds"]) / dt))
     gi = index["gait"]  # (terrain, gait)
+    upright = np.cumprod(sim["up"][gi, :g1] >= float(ch5["recordings"]["fallen_up"]),
+                         axis=2).astype(bool)  # (terrain, gait, time)
+    turned = ~upright[..., -1]
+    valid = upright[..., g0:g1, None]
     f = sim["force"][gi, g0:g1]  # (terrain, gait, time, paw)
     q = sim["knee"][gi, g0:g1]
-    off = (f < thr).mean(2)
-    stance = f >= thr
+    n_valid = valid.sum(2)
+    with np.errstate(invalid="ignore"):
+        off = np.where(n_valid > 0, ((f < thr) & valid).sum(2) / n_valid, np.nan)
+    stance = (f >= thr) & valid
     q_st_max = np.where(stance, q, -np.inf).max(2)
     q_st_min = np.where(stance, q, np.inf).min(2)
     has = stance.any(2)
     knee_range = np.where(has, q_st_max - q_st_min, np.nan)
     knee_max = np.where(has, q_st_max, np.nan)
-    turned = (sim["up"][gi, :g1] < float(ch5["recordings"]["fallen_up"])).any(2)
+    measured = valid[..., 0].sum(2) * dt  # (terrain, gait) [s]
 
     src = sourced_ranges(terrains, pup.MASS)
 
-    def chk(value, key):
+    def chk(value, key, resolved=True):
         lo, hi = src[key][:, 0], src[key][:, 1]
-        return check(value, lo[:, None], hi[:, None], tol)
+        out = check(value, lo[:, None], hi[:, None], tol)
+        return np.where((out != "no source") & ~np.asarray(resolved), "unresolved", out)
+
+    resolved = td[..., 4] > 1  # more than one step on the rising edge
 
     unload = (off > 0).any(2)  # (terrain, gait): some paw leaves the ground
     never = [f"{g['gait']} {float(g['frequency']):g} Hz" for j, g in enumerate(gaits)
              if not unload[:, j].any()]
-    unload_note = ("the paws never unload (normal force below the threshold) in: "
-                   + ", ".join(never) if never else
-                   "in every gait some paw unloads on some terrain")
+    unload_note = ("The paws never unload (normal force below the threshold) on any "
+                   "terrain in: " + ", ".join(never) if never else
+                   "In every gait some paw unloads on some terrain")
     ranges = ("bound", ["low", "high"])
     no_src = ("no source: docs/sources.md §5.3 gives no value (Tab. 5.1 and §5.3.1 "
               "give no gait kinematics)")
@@ -374,6 +388,8 @@ def puppy_contact(ctx) -> xr.Dataset:
             "turned_over": (("terrain", "gait"), turned, dict(
                 units="1", long_name="the trunk's up axis fell below ch5.recordings."
                 "fallen_up before the window's end")),
+            "measured_seconds": (("terrain", "gait"), measured, dict(
+                units="s", long_name="length of the measured window up to a turn-over")),
             "stiffness_source": (("terrain",) + (ranges[0],), src["stiffness"], dict(
                 units="kN/m", source=CITATION, long_name="sourced one-paw contact "
                 "stiffness (NaN: no bound)")),
@@ -395,11 +411,17 @@ def puppy_contact(ctx) -> xr.Dataset:
             "stiffness_check": (("terrain", "paw"), chk(stiff, "stiffness"), dict(
                 units="1", long_name=f"implied stiffness within +-{tol:.0%} of the sourced "
                 "range")),
-            "time_to_peak_check": (("terrain", "paw"), chk(td[..., 1] * 1e3, "time_to_peak"),
-                                   dict(units="1", long_name=f"time to peak within "
-                                        f"+-{tol:.0%} of the sourced range")),
-            "rise_time_check": (("terrain", "paw"), chk(td[..., 2] * 1e3, "rise_time"), dict(
-                units="1", long_name=f"rise time within +-{tol:.0%} of the sourced range")),
+            "rise_steps": (("terrain", "paw"), td[..., 4], dict(
+                units="1", long_name="steps with force on the rising edge up to the peak "
+                "(1: the force jumps within a step, the rise is not resolved)")),
+            "time_to_peak_check": (("terrain", "paw"),
+                                   chk(td[..., 1] * 1e3, "time_to_peak", resolved), dict(
+                units="1", long_name=f"time to peak within +-{tol:.0%} of the sourced range "
+                "('unresolved': the force jumps to its peak within one step)")),
+            "rise_time_check": (("terrain", "paw"), chk(td[..., 2] * 1e3, "rise_time",
+                                                        resolved), dict(
+                units="1", long_name=f"rise time within +-{tol:.0%} of the sourced range "
+                "('unresolved': the force jumps to its peak within one step)")),
         },
         coords=dict(terrain=terrains, paw=list(pup.LEGS), bound=ranges[1],
                     gait=[f"{g['gait']} {float(g['frequency']):g} Hz" for g in gaits],

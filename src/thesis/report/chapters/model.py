@@ -1,7 +1,9 @@
 """Report section of the Oncilla model's own checks, from
 ``results/<profile>/model/oncilla*.nc`` (``thesis bench oncilla``; a second model's
 dataset, written with ``--output results/<profile>/model/oncilla_<label>.nc``, sits beside
-the first and is shown beside it, by its ``model_label``).
+the first and is shown beside it, by its ``model_label``); the validation tables
+(:mod:`thesis.report.validation`) and the Puppy II's paw contact
+(:mod:`thesis.report.puppy_contact`, ``thesis bench puppy-contact``) follow.
 
 No thesis numbers: the checks measure the simulated robot, not a claim. Every number is
 read from a dataset; without one the section says "not run".
@@ -112,9 +114,10 @@ def summary_table(results) -> Table:
 
 
 def tables(results) -> list[Table]:
-    from thesis.report import validation
+    from thesis.report import puppy_contact, validation
 
-    return [summary_table(results), *validation.tables(results)]
+    return [summary_table(results), *validation.tables(results),
+            *puppy_contact.tables(results)]
 
 
 def figures(results, outdir: Path) -> list[Figure]:
