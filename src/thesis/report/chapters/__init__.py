@@ -3,7 +3,8 @@
 See :mod:`thesis.report.model` for the contract. A chapter without a module here has
 not been built; the report then shows it as "not run". ``model`` is no thesis chapter:
 the simulated Oncilla's own checks (``thesis bench oncilla``, results under
-``results/<profile>/model/``); its figures render with ``thesis report --figures model``.
+``results/<profile>/model/``) and the Puppy II's paw contact (``thesis bench
+puppy-contact``); its figures render with ``thesis report --figures model``.
 """
 
 CHAPTERS = {
