@@ -152,8 +152,9 @@ def simulate(ch5: dict, materials: np.ndarray, lifts: np.ndarray, commands: np.n
         dict of (B, n_steps, ...) arrays: ``force`` (4,) paw normal forces [N],
         ``depth`` (4,) paw sphere depth below the floor [m] (negative: above it),
         ``knee`` (4,) knee angles [rad] (positive = flexion), ``total`` all contact
-        spheres' normal force [N], ``up`` the trunk's up axis' world z [1]; and
-        ``dt`` [s] the model's step.
+        spheres' normal force [N], ``up`` the trunk's up axis' world z [1]; and the
+        floats ``dt`` [s], the model's step, and ``slop`` [m], its contact slop (the
+        depth a contact takes before its position correction starts).
     """
     pup = importlib.import_module("thesis.physics.models.puppy")
     mc = ch5["model"]
@@ -238,8 +239,9 @@ def touchdown(force: np.ndarray, depth: np.ndarray, dt: float, window: float,
 
 
 def _plan(ch5: dict, cfg: dict, root_seed: int):
-    """Materials (B, 4), lifts (B,), commands (B, n_samples, 4) and the run index of each
-    terrain's stand, drop and gait runs (module docstring)."""
+    """(terrains, gaits, materials (B, 4), lifts (B,) [m], commands (B, n_samples, 4)
+    [rad], index) of the bench's runs, ``index`` giving the run of each terrain's stand
+    and drop (T,) and gaits (T, G) (module docstring)."""
     from thesis.terrain import gaits as G
 
     rate = float(ch5["recordings"]["sample_rate"])
@@ -259,11 +261,15 @@ def _plan(ch5: dict, cfg: dict, root_seed: int):
         mat = [float(ch5["terrains"][t][k]) for k in _MATERIAL_KEYS]
         for kind, lift in (("stand", 0.0), ("drop", float(cfg["drop_height"]))):
             index[kind].append(len(mats))
-            mats.append(mat), lifts.append(lift), cmds.append(np.zeros((n, 4)))
+            mats.append(mat)
+            lifts.append(lift)
+            cmds.append(np.zeros((n, 4)))
         row = []
         for c in gait_cmds:
             row.append(len(mats))
-            mats.append(mat), lifts.append(0.0), cmds.append(c)
+            mats.append(mat)
+            lifts.append(0.0)
+            cmds.append(c)
         index["gait"].append(row)
     return (terrains, gaits, np.array(mats), np.array(lifts), np.array(cmds),
             {k: np.array(v, int) for k, v in index.items()})
