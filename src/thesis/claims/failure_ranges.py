@@ -30,3 +30,21 @@ def containing(bounds: tuple[float, float], values, failed) -> tuple[float, floa
     if f.any():
         lo, hi = min(lo, float(x[f].min())), max(hi, float(x[f].max()))
     return lo, hi
+
+
+def envelope(*arrays) -> tuple[float, float]:
+    """(smallest, largest) finite value of ``arrays`` (NaN, NaN when none is finite): the
+    range an experiment's recorded values span."""
+    x = np.concatenate([np.asarray(a, float).ravel() for a in arrays])
+    x = x[np.isfinite(x)]
+    return (float(x.min()), float(x.max())) if x.size else (np.nan, np.nan)
+
+
+def never_improved(start, final) -> np.ndarray:
+    """Per run, whether it failed as an optimisation: its ``final`` objective is not
+    finite (it diverged) or not above its ``start`` (it never improved). ``start`` and
+    ``final``: (n,) [the objective's units], higher is better; a run without a finite
+    start is not flagged."""
+    s, f = np.asarray(start, float).ravel(), np.asarray(final, float).ravel()
+    with np.errstate(invalid="ignore"):
+        return np.isfinite(s) & (~np.isfinite(f) | (f <= s))
