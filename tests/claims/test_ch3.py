@@ -214,3 +214,79 @@ def test_seen_falls_change_the_turning_verdict():
     mixed = check("ch3.scapulae_needed_for_fast_turning", table3_2=_with_fallen(t, "speed", flags))
     assert mixed.status == "inconclusive"
     assert mixed.measured["speed.n_seeds_failed"] == 3
+
+
+def _one_fall(seeds: int) -> xr.Dataset:
+    """Thesis-shaped speeds (spline 0.3 m/s per Hz, up to 0.6 m/s; the half ellipse
+    0.14 m/s per Hz; the sine flattening at 1 Hz near 0.2 m/s) with the locus gaits'
+    theoretical speed recorded (0.3 m/s per Hz) and the spline robot of seed 0 fallen at
+    1.5 Hz, where it made 0.05 m/s."""
+    ds = fig3_4(seeds=seeds, spline_gain=0.3)
+    ds["theoretical_speed"] = xr.full_like(ds["speed"], np.nan)
+    for g in ("half_ellipse", "spline"):
+        ds["theoretical_speed"].loc[{"gait": g}] = 0.3 * FREQ
+    cell = {"seed": 0, "gait": "spline", "frequency": 1.5}
+    ds["speed"].loc[cell] = 0.05
+    ds["fallen"] = xr.zeros_like(ds["speed"])
+    ds["fallen"].loc[cell] = 1.0
+    return ds
+
+
+def test_a_fallen_speed_is_bounded_by_the_gaits_top_speed():
+    """A fallen robot's speed lies between 0 and its gait's top speed (the recorded
+    theoretical speed, the family's where none is recorded), so one fall among 40 seeds
+    no longer leaves the comparison unbounded: "spline fastest" is reproduced, while the
+    same seeds without a declared range (a single failed seed's value unbounded) are
+    inconclusive. At 10 seeds the fall rate may still be 49 % (Clopper-Pearson at the
+    Bonferroni share), and 49 % of seeds at the sine's top speed outweighs any
+    advantage a walking spline can have: inconclusive, as it should be."""
+    from thesis.claims import ch3_ranges
+
+    ds = _one_fall(40)
+    v = check("ch3.spline_fastest", fig3_4=ds)
+    assert v.status == "reproduced", v.detail
+    assert v.measured["spline_vs_sine.n_seeds_failed"] == 1
+    per = ds["speed"].max("frequency")
+    a, b = per.sel(gait="spline").values, per.sel(gait="sine").values
+    failed = ds["fallen"].sel(gait=["spline", "sine"]).any(["gait", "frequency"]).values
+    top_spline = float(np.max(ch3_ranges.top_speed(ds, "spline")))
+    top_sine = float(np.max(ch3_ranges.family_top_speed("sine", FREQ)))
+    assert top_spline == 0.3 * FREQ.max()
+    declared = stats_beats(a, b, failed, (-top_sine, top_spline))
+    assert declared.measured["advantage_ci_low"] == v.measured["spline_vs_sine.advantage_ci_low"]
+    assert stats_beats(a, b, failed, None).status == "inconclusive"
+    assert check("ch3.spline_fastest", fig3_4=_one_fall(10)).status == "inconclusive"
+
+
+def stats_beats(a, b, failed, bounds):
+    from thesis.claims import stats
+    return stats.decide_beats(a, b, higher_is_better=True, failed=failed,
+                              failure_bounds=bounds)
+
+
+def test_a_fallen_seed_outside_the_declared_range_widens_it():
+    """What a fallen seed recorded lies in the range of what it can record: a fallen
+    spline robot measured at 5 m/s (far above its top speed) widens the range, and the
+    comparison is no longer reproduced on the strength of that seed."""
+    ds = _one_fall(40)
+    ds["speed"].loc[{"seed": 0, "gait": "spline", "frequency": 1.5}] = 5.0
+    v = check("ch3.spline_fastest", fig3_4=ds)
+    assert v.measured["spline_vs_sine.advantage_ci_high"] > 0.3 * FREQ.max()
+
+
+def test_turning_speed_of_a_fallen_robot_is_bounded():
+    """Scapulae against step-size turning speed with one fallen scapulae robot of 40: a
+    fallen robot's speed lies between 0 and the half-ellipse family's top speed at the
+    turning frequency, so the speed comparison decides; the angular speed of a tumbling
+    robot has no bound, so that part stays inconclusive with a single fall."""
+    from thesis.claims import ch3
+
+    t = table3_2(seeds=40, scap_speed=0.6, step_speed=0.02)
+    flags = xr.zeros_like(t["speed"])
+    flags.loc[{"seed": 0, "strategy": "scapulae"}] = 1.0
+    t["speed"].loc[{"seed": 0, "strategy": "scapulae"}] = 0.0
+    v = check("ch3.scapulae_needed_for_fast_turning", table3_2=_with_fallen(t, "speed", flags))
+    assert v.measured["speed.n_seeds_failed"] == 1
+    assert abs(ch3.turning_top_speed({"ch3/table3_2": t}) - 2 * 0.1096 * 1.5 / 0.5) < 1e-3
+    assert "speed: reproduced" in v.detail
+    assert "angular_speed: inconclusive" in v.detail

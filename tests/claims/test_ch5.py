@@ -3,6 +3,8 @@ with numbers that support it (reproduced) and once with numbers that contradict 
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import xarray as xr
 
@@ -11,7 +13,12 @@ from thesis import claims
 SEL = ["useful", "reduced", "minimal", "leg", "agt", "imu", "joints", "touch"]
 DIMS = [55, 21, 18, 12, 10, 9, 8, 4]
 TERR = ["F", "S", "L", "C", "R"]
-SEEDS = 5
+#: Seeds of the synthetic datasets. The comparisons decided by rules 4 and 6 "above" pass
+#: each seed's classifier-failure flag (rule 3b): with no failure seen among n seeds the
+#: failure rate may still be 1 - 0.0125^(1/n) (58 % at 5 seeds, 4 % at 100) and a failed
+#: seed's difference as low as -100 points, so differences of 4-11 points decide only
+#: from about 200 seeds; what 5 seeds give is in test_flagged_comparisons_need_seeds.
+SEEDS = 200
 
 
 def _noise(shape, seed=0, sd=0.5):
@@ -335,3 +342,56 @@ def test_generalisation_to_gaits_must_be_poor():
               fig5_3=fig5_3(freq_recall=95.0, gait_recall=80.0))
     assert v.status == "not_reproduced", v.detail
     np.testing.assert_allclose(v.measured["gaits_not_very_effective.halfway_mean"], 75.0)
+
+
+def _touch_draw(rng, seeds: int, fail_rate: float, flag: bool) -> dict:
+    """Tab. 5.4 with RC - ELM on touch at +8 points on seeds whose RC works and -7 where
+    it failed (``fail_rate`` of seeds: its train accuracy at the train set's majority
+    share, 20 %): the issue's second mode, mean 5 points at a rate of 1/5. ``flag``
+    False records no train majority share (no failure indicator)."""
+    ds = table5_4(elm_touch=74.0, rc_touch=82.0)
+    failed = rng.random(seeds) < fail_rate
+    rc_test = ds["accuracy"].loc[{"selection": "touch", "method": "rc", "split": "test"}]
+    elm_test = ds["accuracy"].loc[{"selection": "touch", "method": "elm", "split": "test"}]
+    rc_test = elm_test + np.where(failed, -7.0, 8.0)[:, None] \
+        + 0.5 * rng.standard_normal(rc_test.shape)
+    ds["accuracy"].loc[{"selection": "touch", "method": "rc", "split": "test"}] = rc_test
+    ds["accuracy"].loc[{"selection": "touch", "method": "rc", "split": "train"}] = np.where(
+        failed[:, None], 20.0, rc_test + 10.0)
+    if not flag:
+        ds["majority_share"].loc[{"split": "train"}] = np.nan
+    return {"table5_4": ds}
+
+
+def test_flagged_comparisons_need_seeds(monkeypatch):
+    """At 5 seeds, thesis-like numbers with no classifier failure seen leave the
+    comparisons of rules 4 and 6 "above" inconclusive (rule 3b: up to 58 % of seeds may
+    still fail unseen); the rule-5 comparisons, which hold their level under a second
+    mode, still decide. Without a train majority share (no indicator) the flagged claim
+    is decided as before."""
+    monkeypatch.setattr(sys.modules[__name__], "SEEDS", 5)
+    r = dict(table5_3=table5_3(), table5_4=table5_4(), table5_5=table5_5(),
+             table5_6=table5_6(), fig5_3=fig5_3())
+    for cid in ("ch5.reservoir_better_with_few_sensors", "ch5.nonlinearity_needed",
+                "ch5.limited_sensor_selection_suffices", "ch5.tactile_sensors_important"):
+        v = check(cid, **r)
+        assert v.status == "inconclusive" and "rule 3b" in v.statistic, cid
+    assert check("ch5.rc_and_elm_equal_with_enough_inputs", **r).status == "reproduced"
+    plain = _touch_draw(np.random.default_rng(0), 5, 0.0, flag=False)
+    assert check("ch5.reservoir_better_with_few_sensors", **plain).status == "reproduced"
+
+
+def test_a_classifier_failure_mode_is_flagged(monkeypatch):
+    """The issue's probe through the claim's own check: 20 % of 5 seeds with RC at a
+    second mode (RC - ELM = -7 points, the rest +8; the mean on the 5-point bound of
+    "drastic"). Without the indicator "RC drastically better" is reproduced in about a
+    third of draws (nominal 2.5 %); with each seed's flag (RC's train accuracy not above
+    the train set's majority share) in none."""
+    monkeypatch.setattr(sys.modules[__name__], "SEEDS", 5)
+    rng = np.random.default_rng(11)
+    reps = 120
+    rate = {flag: np.mean([check("ch5.reservoir_better_with_few_sensors",
+                                 **_touch_draw(rng, 5, 0.2, flag)).status == "reproduced"
+                           for _ in range(reps)]) for flag in (False, True)}
+    assert rate[False] > 0.15, rate
+    assert rate[True] <= 0.025, rate

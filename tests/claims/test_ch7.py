@@ -57,12 +57,12 @@ ARM2_THESIS = {"n_params": 2107396, "batch": 128, "episode_s": 8.0}
 GAIT_THESIS = {"episode_s": 10.0, "n_params": 17952}
 
 
-def gait(final: float, n: int = 600, upright=None, **attrs) -> xr.Dataset:
+def gait(final: float, n: int = 600, upright=None, seeds: int = 3, **attrs) -> xr.Dataset:
     """The BPTT gait's speed curve; ``upright``: per-seed cos of the final gait's largest
     spine tilt (``final_upright``, with the trot's 60-degree criterion), not recorded when
     None."""
     ds = curve("evaluation", n, final=final, start=0.0, tau=80.0, name="speed", rising=True,
-               **{**GAIT_THESIS, **attrs})
+               seeds=seeds, **{**GAIT_THESIS, **attrs})
     if upright is not None:
         ds["final_upright"] = xr.DataArray(np.asarray(upright, float), dims=("seed",),
                                            coords={"seed": ds["seed"]}, attrs={"units": "1"})
@@ -189,13 +189,19 @@ def test_scaling_claim_reads_the_parameter_count():
 
 
 def test_quadruped_gait():
-    assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(1.2)).status == (
-        "reproduced")
+    """A run can fail (diverge, never improve), so the speed at the budget is decided on
+    rule 3b: with no failure among 3 seeds up to 77 % of runs may still fail, which keeps
+    1.2 m/s from showing "above 0.8775" (inconclusive); 20 seeds show it."""
+    v = check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(1.2))
+    assert v.status == "inconclusive" and "rule 3b" in v.statistic
+    assert check("ch7.quadruped_gait_in_500_evaluations",
+                 quadruped_gait=gait(1.2, seeds=20)).status == "reproduced"
     # the hand-tuned 0.7 m/s is not the sentence's 1.17 m/s (less 25 %: 0.8775)
     v = check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=gait(0.75))
     assert v.status == "not_reproduced" and v.measured["bound"] == 1.17 * 0.75
     assert check("ch8.ch7_gait_in_500_evaluations",
-                 quadruped_gait=gait(0.75, upright=[1.0] * 3)).status == "reproduced"
+                 quadruped_gait=gait(0.75, upright=[1.0] * 20, seeds=20)).status == (
+        "reproduced")
     slow = gait(0.3)
     assert check("ch7.quadruped_gait_in_500_evaluations", quadruped_gait=slow).status == (
         "not_reproduced")
@@ -433,3 +439,34 @@ def test_censored_verdict_never_favours_a_method_with_failed_runs():
     # without the failure, the same numbers reproduce
     v = decide_fewer_censored(a, [True] * 5, b, b_done, label_a="a", label_b="b")
     assert v.status == "reproduced"
+
+
+def _bimodal_gaits(rng, seeds: int, fail_rate: float) -> xr.Dataset:
+    """BPTT gait runs of which ``fail_rate`` never improve (end at their 0 m/s start) and
+    the rest reach 1.097 m/s: the mean over runs at 1/5 failing is the sentence's bound
+    0.8775 m/s (1.17 less 25 %)."""
+    ds = gait(1.097, seeds=seeds)
+    sp = ds["speed"].values * (1 + 0.01 * rng.standard_normal((seeds, 1)))
+    sp[rng.random(seeds) < fail_rate] = 0.0
+    ds["speed"] = (ds["speed"].dims, sp, ds["speed"].attrs)
+    return ds
+
+
+def test_a_gait_run_that_never_improved_is_flagged(monkeypatch):
+    """20 % of 5 seeds never improve, the mean over runs on the bound: without the flag
+    (rule 3) "above the bound" is said whenever the 5 seeds saw no failure (a third of
+    draws); with each run's flag (rule 3b) in none."""
+    from thesis.claims import ch7
+    rng = np.random.default_rng(5)
+    reps = 120
+
+    def rate():
+        return np.mean([check("ch7.quadruped_gait_in_500_evaluations",
+                              quadruped_gait=_bimodal_gaits(rng, 5, 0.2)).status == "reproduced"
+                        for _ in range(reps)])
+
+    flagged = rate()
+    monkeypatch.setattr(ch7, "_failed_gaits", lambda *a: (None, None))
+    unflagged = rate()
+    assert unflagged > 0.15, unflagged
+    assert flagged <= 0.025, flagged

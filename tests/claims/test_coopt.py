@@ -190,3 +190,34 @@ def test_joint_optimisation_is_decided_as_feasibility():
     frozen = c.check({coopt.ARMS: _with_training(worse_than_controller, start=0.2,
                                                  moved=False)})
     assert frozen.status == "not_reproduced"
+
+
+def test_a_joint_run_that_never_improved_is_flagged(monkeypatch):
+    """20 % of 5 seeds' joint runs never improve (end at their start, 0.1 m/s) and the
+    rest beat the controller-only arm by as much as makes the mean difference 0: without
+    the flag (rule 3) "joint beats controller" is said whenever the seeds saw no failure;
+    with each run's flag from the recorded training curve (rule 3b) in none."""
+    rng = np.random.default_rng(8)
+    reps = 120
+
+    def draw():
+        failed = rng.random(5) < 0.2
+        ds = _with_training(arms({"controller": 0.5, "morphology": 0.4, "joint": 0.6}), 0.1)
+        fin = ds["final_speed"].values.copy()
+        noise = 0.01 * rng.standard_normal(5)
+        fin[2] = np.where(failed, 0.1 - np.abs(noise), 0.6 + noise)
+        fin[0] = 0.5 + 0.01 * rng.standard_normal(5)
+        sp = ds["speed"].values.copy()
+        sp[..., -1] = fin
+        return ds.assign(final_speed=(("arm", "seed"), fin, {"units": "m/s"}),
+                         speed=(("arm", "seed", "evaluation"), sp, {"units": "m/s"}))
+
+    def rate():
+        return np.mean([claims.get("ch8.coopt_joint_beats_controller_only").check(
+            {"coopt/arms": draw()}).status == "reproduced" for _ in range(reps)])
+
+    flagged = rate()
+    monkeypatch.setattr(coopt, "failed_runs", lambda *a: None)
+    unflagged = rate()
+    assert unflagged > 0.15, unflagged
+    assert flagged <= 0.025, flagged

@@ -15,9 +15,13 @@ any other extra dim is averaged):
 - ``fallen`` [1] in ``fig3_4`` (gait, frequency, seed) and ``table3_2`` (strategy, seed),
   where recorded: 1 if the robot fell. The chapter's failure indicator: the comparisons
   and bounds on per-seed speeds pass it to rule 3b of :mod:`thesis.claims.stats` (a seed
-  failed where the robot fell in a compared cell), with no declared range for a fallen
-  robot's speed; a dataset without it is decided under rule 3's stated assumption of runs
-  without a failure mode.
+  failed where the robot fell in a compared cell), with the range a fallen robot's speed
+  can take declared from what a fall is (:mod:`thesis.claims.ch3_ranges`: between 0 and
+  the gait's theoretical speed; the optional ``theoretical_speed`` [m/s] of ``fig3_4``,
+  gait, frequency, seed, gives each seed's own); the angular speed, turning radius and
+  turning-over-straight log ratio of a fallen robot have no such range and keep rule 3b
+  without one. A dataset without ``fallen`` is decided under rule 3's stated assumption
+  of runs without a failure mode.
 
 Note: the chapter abstract calls the half-ellipse gait the fastest, while §3.3.1.3 reports
 the spline gait faster (0.41 against 0.27 m/s); both statements are checked separately.
@@ -28,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from thesis import paper
-from thesis.claims import sentences, stats
+from thesis.claims import ch3_ranges, sentences, stats
 from thesis.claims.types import Claim, LayoutError, Results, Verdict, pick, variable
 
 FIG = "ch3/fig3_4"
@@ -84,16 +88,51 @@ def _either(fallen, dim: str, a: str, b: str) -> np.ndarray | None:
     return (fallen.sel({dim: a}) | fallen.sel({dim: b})).values
 
 
-def _beats_each(per, winner: str, losers: list[str], higher_is_better: bool = True,
-                fallen=None) -> Verdict:
-    """Rule 4 for ``winner`` against each of ``losers`` (all must hold); with ``fallen``
-    (:func:`fell`), rule 3b with a seed failed where either gait fell."""
+def _beats(a, b, failed, ranges: tuple | None, **kw) -> Verdict:
+    """Rule 4 on paired per-seed values ``a`` and ``b`` (higher is better); with per-seed
+    ``failed`` flags rule 3b, the failed seeds' advantage A - B in the range of A minus
+    that of B (``ranges``: (range of A, range of B), each (low, high), or None for no
+    declared range), widened to contain what the failed seeds recorded
+    (:func:`thesis.claims.ch3_ranges.containing`)."""
+    bounds = None
+    if failed is not None and ranges is not None:
+        bounds = ch3_ranges.containing(ch3_ranges.difference_range(*ranges),
+                                       np.asarray(a, float) - np.asarray(b, float), failed)
+    return stats.decide_beats(a, b, higher_is_better=True, failed=failed,
+                              failure_bounds=bounds, **kw)
+
+
+def _beats_each(per, winner: str, losers: list[str], fallen=None,
+                ranges: dict | None = None) -> Verdict:
+    """Rule 4 for ``winner`` against each of ``losers`` (higher is better; all must
+    hold); with ``fallen`` (:func:`fell`), rule 3b with a seed failed where either gait
+    fell, and ``ranges`` (gait -> (low, high) of its per-seed value on a fallen seed) the
+    declared range of the advantage there."""
     return stats.combine({
-        f"{winner}_vs_{other}": stats.decide_beats(
+        f"{winner}_vs_{other}": _beats(
             per.sel(gait=winner).values, per.sel(gait=other).values,
-            higher_is_better=higher_is_better, label_a=winner, label_b=other,
-            failed=_either(fallen, "gait", winner, other))
+            _either(fallen, "gait", winner, other),
+            None if ranges is None else (ranges[winner], ranges[other]),
+            label_a=winner, label_b=other)
         for other in losers})
+
+
+def _high_band_ranges(results: Results, gaits: list[str]) -> dict:
+    """Per gait, the range [m/s] of its per-seed mean speed above the knee on a seed
+    where the robot fell: each cell between 0 and the gait's top speed there
+    (:func:`thesis.claims.ch3_ranges.top_speed`)."""
+    ds = results[FIG]
+    f = np.asarray(ds["frequency"].values, float)
+    high = f > paper.get(KNEE_KEY).value
+    return {g: ch3_ranges.linear_range(np.full(high.sum(), 1.0 / high.sum()),
+                                       ch3_ranges.top_speed(ds, g)[high]) for g in gaits}
+
+
+def _max_speed_ranges(results: Results, gaits: list[str]) -> dict:
+    """Per gait, the range [m/s] of its per-seed maximum speed over frequency on a seed
+    where the robot fell: 0 to the largest top speed over the frequencies."""
+    ds = results[FIG]
+    return {g: (0.0, float(np.max(ch3_ranges.top_speed(ds, g)))) for g in gaits}
 
 
 def ellipse_beats_sine_high_speed(results: Results) -> Verdict:
@@ -101,7 +140,8 @@ def ellipse_beats_sine_high_speed(results: Results) -> Verdict:
     (rule 4 on the per-seed mean speed above 1 Hz; rule 3b where the robot fell there)."""
     gaits = ["half_ellipse", "sine"]
     return _beats_each(_high_band_speed(results, gaits), "half_ellipse", ["sine"],
-                       fallen=fell(results, FIG, "gait", high_band=True, gait=gaits))
+                       fallen=fell(results, FIG, "gait", high_band=True, gait=gaits),
+                       ranges=_high_band_ranges(results, gaits))
 
 
 def trajectories_beat_sine_high_speed(results: Results) -> Verdict:
@@ -109,10 +149,11 @@ def trajectories_beat_sine_high_speed(results: Results) -> Verdict:
     frequency (rule 4 each; rule 3b where the robot fell above the knee)."""
     per = _high_band_speed(results, GAITS)
     fallen = fell(results, FIG, "gait", high_band=True, gait=GAITS)
+    ranges = _high_band_ranges(results, GAITS)
     return stats.combine({
-        f"{g}_vs_sine": stats.decide_beats(per.sel(gait=g).values, per.sel(gait="sine").values,
-                                           higher_is_better=True, label_a=g, label_b="sine",
-                                           failed=_either(fallen, "gait", g, "sine"))
+        f"{g}_vs_sine": _beats(per.sel(gait=g).values, per.sel(gait="sine").values,
+                               _either(fallen, "gait", g, "sine"),
+                               (ranges[g], ranges["sine"]), label_a=g, label_b="sine")
         for g in ("half_ellipse", "spline")})
 
 
@@ -149,27 +190,47 @@ def sine_flattens(results: Results) -> Verdict:
     below, above = slopes(lo), slopes(hi)
     fallen = fell(results, FIG, "gait", gait=["sine"])  # a fall anywhere on the curve
     failed = None if fallen is None else fallen.sel(gait="sine").values
+    flat = above - FLAT_SHARE * below
+    b_below = b_flat = None
+    if failed is not None:
+        # each speed of a fallen seed between 0 and the sine gait's top speed: the slopes
+        # are linear in the speeds (least-squares weights), so their ranges follow
+        top = ch3_ranges.top_speed(results[FIG], "sine")
+        w_lo, w_hi = _slope_weights(f, lo), _slope_weights(f, hi)
+        b_below = ch3_ranges.containing(ch3_ranges.linear_range(w_lo, top), below, failed)
+        b_flat = ch3_ranges.containing(
+            ch3_ranges.linear_range(w_hi - FLAT_SHARE * w_lo, top), flat, failed)
     return stats.combine({
         "proportional_below": stats.decide_threshold(below, bound=0.0, below=False,
-                                                     label="slope_up_to_knee", failed=failed),
-        "flat_above": stats.decide_threshold(above - FLAT_SHARE * below, bound=0.0, below=True,
+                                                     label="slope_up_to_knee", failed=failed,
+                                                     failure_bounds=b_below),
+        "flat_above": stats.decide_threshold(flat, bound=0.0, below=True,
                                              label="slope_above_knee_minus_half_below",
-                                             failed=failed),
+                                             failed=failed, failure_bounds=b_flat),
     })
+
+
+def _slope_weights(f: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Weights w (one per frequency, 0 outside ``mask``) with slope = sum_i w_i v_i for the
+    least-squares line through the speeds v at the frequencies ``f[mask]``."""
+    c = np.where(mask, f - f[mask].mean(), 0.0)
+    return c / np.sum(c[mask] ** 2)
 
 
 def ellipse_fastest(results: Results) -> Verdict:
     """Half ellipse reaches a higher maximum speed [m/s] than sine and spline (rule 4
     each; rule 3b where the robot fell at some frequency)."""
     return _beats_each(_max_speed(results, GAITS), "half_ellipse", ["sine", "spline"],
-                       fallen=fell(results, FIG, "gait", gait=GAITS))
+                       fallen=fell(results, FIG, "gait", gait=GAITS),
+                       ranges=_max_speed_ranges(results, GAITS))
 
 
 def spline_fastest(results: Results) -> Verdict:
     """Spline reaches a higher maximum speed [m/s] than sine and half ellipse (rule 4
     each; rule 3b where the robot fell at some frequency)."""
     return _beats_each(_max_speed(results, GAITS), "spline", ["sine", "half_ellipse"],
-                       fallen=fell(results, FIG, "gait", gait=GAITS))
+                       fallen=fell(results, FIG, "gait", gait=GAITS),
+                       ranges=_max_speed_ranges(results, GAITS))
 
 
 def _robust(results: Results):
@@ -203,8 +264,12 @@ def sine_not_robust(results: Results) -> Verdict:
 
 def sine_least_robust(results: Results) -> Verdict:
     """Sine keeps walking under perturbations less often than both trajectory gaits."""
-    return _beats_each(_robust(results), "sine", ["half_ellipse", "spline"],
-                       higher_is_better=False)
+    per = _robust(results)
+    return stats.combine({
+        f"sine_vs_{other}": stats.decide_beats(
+            per.sel(gait="sine").values, per.sel(gait=other).values, higher_is_better=False,
+            label_a="sine", label_b=other)
+        for other in ("half_ellipse", "spline")})
 
 
 def _turn(results: Results, name: str):
@@ -212,16 +277,30 @@ def _turn(results: Results, name: str):
     return stats.per_seed(pick(da, strategy=WORKING), keep=("strategy",))
 
 
-def _scapulae_vs_step(results: Results, name: str, higher_is_better: bool = True) -> Verdict:
-    """Rule 4, scapulae against step-size turning on ``name``; rule 3b with a seed failed
-    where either fell (``fallen`` of ``table3_2``, when recorded)."""
+def turning_top_speed(results: Results) -> float:
+    """Top speed [m/s] of the turning gait: the half-ellipse family's
+    (:func:`thesis.claims.ch3_ranges.family_top_speed`; the seeds' own strides are not in
+    ``table3_2``) at the turning frequency (the dataset's ``turning_frequency``
+    attribute, else the thesis's 1.5 Hz, §3.3.3)."""
+    f = results[TURN].attrs.get("turning_frequency",
+                                paper.get("sec3.3.3/turning_frequency").value)
+    return float(ch3_ranges.family_top_speed("half_ellipse", float(f)))
+
+
+def _scapulae_vs_step(results: Results, name: str) -> Verdict:
+    """Rule 4, scapulae against step-size turning on ``name`` (higher is better); rule 3b
+    with a seed failed where either fell (``fallen`` of ``table3_2``, when recorded). A
+    fallen robot's ``speed`` lies between 0 and :func:`turning_top_speed`; its angular
+    speed has no declared range (:mod:`thesis.claims.ch3_ranges`)."""
     per = _turn(results, name)
-    return stats.decide_beats(per.sel(strategy="scapulae").values,
-                              per.sel(strategy="step_size").values,
-                              higher_is_better=higher_is_better,
-                              label_a=f"scapulae_{name}", label_b=f"step_size_{name}",
-                              failed=_either(fell(results, TURN, "strategy", strategy=WORKING),
-                                             "strategy", "scapulae", "step_size"))
+    ranges = None
+    if name == "speed":
+        top = (0.0, turning_top_speed(results))
+        ranges = (top, top)
+    return _beats(per.sel(strategy="scapulae").values, per.sel(strategy="step_size").values,
+                  _either(fell(results, TURN, "strategy", strategy=WORKING), "strategy",
+                          "scapulae", "step_size"), ranges,
+                  label_a=f"scapulae_{name}", label_b=f"step_size_{name}")
 
 
 def scapulae_turn_faster(results: Results) -> Verdict:

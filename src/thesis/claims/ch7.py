@@ -34,7 +34,7 @@ import numpy as np
 import xarray as xr
 
 from thesis import paper
-from thesis.claims import stats
+from thesis.claims import failure_ranges, stats
 from thesis.claims.types import Claim, LayoutError, Results, Verdict, pick, variable
 
 BALL = "ch7/ball"
@@ -398,9 +398,31 @@ def quadruped_gait_learns(results: Results,
     budget = paper.get("quadruped_gait/evaluations").value
     bound = paper.get(bound_key).value * (1 - tolerance)
     final, last = _speed_at_budget(results, budget)
-    v = stats.decide_threshold(final, bound=bound, below=False, label="speed_at_budget")
+    failed, bounds = _failed_gaits(results, budget, final)
+    v = stats.decide_threshold(final, bound=bound, below=False, label="speed_at_budget",
+                               failed=failed, failure_bounds=bounds)
     measured = {**v.measured, "last_evaluation": last, "budget": budget}
     return _within_budget(results, v, measured, last, budget)
+
+
+def _failed_gaits(results: Results, budget: float, final: np.ndarray):
+    """(per-seed flags, their range [m/s]) of BPTT gait runs that failed (rule 3b): the
+    speed at the last evaluation within ``budget`` is not finite (diverged) or not above
+    the first evaluation's (never improved). A failed run ends between the slowest speed
+    the experiment recorded and the fastest start (the recorded envelope: the model gives
+    no physical bound), widened to contain the failed seeds' values. (None, None) without
+    a speed curve of at least 2 evaluations."""
+    curve = _curve(results, GAIT, "speed", "evaluation")
+    ev = np.asarray(curve["evaluation"].values, float)
+    within = curve.isel(evaluation=np.flatnonzero(ev <= budget)).values
+    if within.shape[1] < 2:
+        return None, None
+    start = within[:, 0]
+    failed = failure_ranges.never_improved(start, np.where(np.isfinite(within[:, -1]),
+                                                           final, np.nan))
+    lo, _ = failure_ranges.envelope(within)
+    bounds = failure_ranges.containing((lo, float(np.nanmax(start))), final, failed)
+    return failed, bounds
 
 
 def _speed_at_budget(results: Results, budget: float) -> tuple[np.ndarray, float]:

@@ -29,6 +29,13 @@ hypotheses, with decision rules fixed before any result was looked at:
   seeds without an explosion leave a high explosion rate possible, which keeps "does not
   grow tenfold" undecided.
 
+Runs of the arms fail: an optimisation that diverged or never improved is a second mode
+far below the rest, under which rule 4 says "A beats B" in up to a third of draws at 3-10
+seeds (:mod:`thesis.claims.calibration`). So the joint-beats-single comparisons pass the
+joint arm's failure flag per seed (:func:`failed_runs`, from the recorded training curve)
+to rule 3b, with the range of the difference on a failed seed from the recorded speeds
+(:func:`failed_speed_bounds`).
+
 Dataset contracts (``results/<profile>/coopt/``): ``arms``: ``final_speed`` (arm, seed)
 and ``perturbed_speed`` (arm, seed, start) [m/s], arms ``controller``, ``morphology``,
 ``joint``. ``gradients``: ``rollouts_to_threshold`` (seed, group, horizon, estimator),
@@ -40,7 +47,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from thesis.claims import stats
+from thesis.claims import failure_ranges, stats
 from thesis.claims.types import Claim, Results, Verdict, pick, variable
 
 ARMS = "coopt/arms"
@@ -60,12 +67,47 @@ _GRADS = ("If we can have analytic gradients of complex models, there is probabl
           "instance policy gradient methods.")
 
 
+def failed_runs(results: Results, arm: str) -> np.ndarray | None:
+    """Per seed, whether ``arm``'s optimisation failed (rule 3b's flag): its final speed
+    is not finite (diverged) or not above the speed it started from (``speed`` at the
+    first evaluation; never improved), :func:`thesis.claims.failure_ranges.never_improved`.
+    None when the training curve ``speed`` is not recorded."""
+    ds = results[ARMS]
+    if "speed" not in ds.data_vars or "evaluation" not in ds["speed"].dims:
+        return None
+    curve = ds["speed"].sel({"arm": arm}).transpose("seed", "evaluation")
+    final = ds["final_speed"].sel({"arm": arm}).transpose("seed")
+    return failure_ranges.never_improved(curve.isel(evaluation=0).values, final.values)
+
+
+def failed_speed_bounds(results: Results, arm: str, var: str) -> tuple[float, float]:
+    """Range [m/s] of (``arm`` - other) ``var`` on a seed where ``arm``'s run failed: the
+    failed arm between the slowest speed the experiment recorded and the fastest start
+    (a run that never improved ends no faster than where it started), the other arm
+    anywhere in the recorded envelope (``speed``, ``final_speed``, ``var``). The lower
+    ends are the recorded envelope, not a physical bound: the model gives none."""
+    ds = results[ARMS]
+    lo, hi = failure_ranges.envelope(ds["speed"].values, ds["final_speed"].values,
+                                     ds[var].values)
+    top = float(np.nanmax(ds["speed"].isel(evaluation=0).values))
+    return failure_ranges.difference_range((lo, top), (lo, hi))
+
+
 def _beats(results: Results, var: str, a: str, b: str) -> Verdict:
+    """Rule 4, ``a`` faster than ``b`` on ``var`` (paired by seed); rule 3b with ``a``'s
+    failed runs (:func:`failed_runs`) and their range (:func:`failed_speed_bounds`) when
+    the training curve is recorded (a failure of ``b`` only moves the difference towards
+    the claim)."""
     dims = ("arm", "seed") + (("start",) if var == "perturbed_speed" else ())
     da = variable(results, ARMS, var, dims=dims)
     per = stats.per_seed(pick(da, arm=[a, b]), keep=("arm",))
-    return stats.decide_beats(per.sel({"arm": a}).values, per.sel({"arm": b}).values,
-                              higher_is_better=True, label_a=a, label_b=b)
+    va, vb = per.sel({"arm": a}).values, per.sel({"arm": b}).values
+    failed = failed_runs(results, a)
+    kw = {}
+    if failed is not None:
+        kw = {"failed": failed, "failure_bounds": failure_ranges.containing(
+            failed_speed_bounds(results, a, var), va - vb, failed)}
+    return stats.decide_beats(va, vb, higher_is_better=True, label_a=a, label_b=b, **kw)
 
 
 def _rollouts(results: Results, estimator: str) -> Verdict:
