@@ -24,6 +24,13 @@ def test_every_sized_claim_has_thesis_shaped_cases():
     assert set(CASES) == set(D.SEEDS_NEEDED)
 
 
+def test_every_claim_is_sized_or_declared_untestable():
+    """Each claim has its seed count; one that no grid point decides has its reason."""
+    assert set(D.SEEDS_NEEDED) == {c.id for c in claims.CLAIMS}
+    assert all(cid in D.UNTESTABLE for cid, need in D.SEEDS_NEEDED.items() if need is None)
+    assert set(D.UNTESTABLE) <= set(D.SEEDS_NEEDED)
+
+
 @pytest.mark.parametrize("cid", sorted(D.SEEDS_NEEDED))
 def test_the_recorded_seed_count_is_the_first_that_decides(cid):
     need = D.SEEDS_NEEDED[cid]
