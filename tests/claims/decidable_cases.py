@@ -286,8 +286,10 @@ CASES.update({
                              lambda n: _gains(n, 0.09, 0.14, 0.5)),
     "ch4.soft_legs_transfer_starts_worse_learns_faster": (lambda n: _soft_start(n, True),
                                                           lambda n: _soft_start(n, False)),
+    # Fig. 4.8: every original particle ahead in generation 0, the lead lost later;
+    # reversed: the lead kept throughout
     "ch4.pebbles_head_start_lost": (lambda n: _ch4(n, fig4_8=lambda: c4.fig4_8(0.4, 0.0)),
-                                    lambda n: _ch4(n, fig4_8=lambda: c4.fig4_8(-0.15, 0.0))),
+                                    lambda n: _ch4(n, fig4_8=lambda: c4.fig4_8(0.4, 0.4))),
     "ch4.pebbles_best_is_transferred": (
         lambda n: _ch4(n, table4_4=lambda: c4.table4_4(gen0=True)),
         lambda n: _ch4(n, table4_4=lambda: c4.table4_4(gen0=False))),
