@@ -54,3 +54,9 @@ def test_the_record_is_in_the_claims_entry():
     assert v["decidability"]["seeds_needed"] == 10 and v["decidability"]["paper_seeds"] == 3
     assert "majority" in v["decidability"]["untestable"]
     assert kinds.paper_seeds(["ch7/arm_random"]) == 1
+
+
+def test_a_claim_no_seed_count_decides_carries_its_reason_in_its_entry():
+    v = claims.evaluate(claims.get("ch4.speedup_from_reduced_search_space"), {})
+    assert v["decidability"]["seeds_needed"] is None and v["decidability"]["paper_seeds"] == 10
+    assert "intervention" in v["decidability"]["untestable"]
