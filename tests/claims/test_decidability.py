@@ -24,6 +24,13 @@ def test_every_sized_claim_has_thesis_shaped_cases():
     assert set(CASES) == set(D.SEEDS_NEEDED)
 
 
+def test_every_claim_is_sized_or_declared_untestable():
+    """Each claim has its seed count; one that no grid point decides has its reason."""
+    assert set(D.SEEDS_NEEDED) == {c.id for c in claims.CLAIMS}
+    assert all(cid in D.UNTESTABLE for cid, need in D.SEEDS_NEEDED.items() if need is None)
+    assert set(D.UNTESTABLE) <= set(D.SEEDS_NEEDED)
+
+
 @pytest.mark.parametrize("cid", sorted(D.SEEDS_NEEDED))
 def test_the_recorded_seed_count_is_the_first_that_decides(cid):
     need = D.SEEDS_NEEDED[cid]
@@ -47,3 +54,9 @@ def test_the_record_is_in_the_claims_entry():
     assert v["decidability"]["seeds_needed"] == 10 and v["decidability"]["paper_seeds"] == 3
     assert "majority" in v["decidability"]["untestable"]
     assert kinds.paper_seeds(["ch7/arm_random"]) == 1
+
+
+def test_a_claim_no_seed_count_decides_carries_its_reason_in_its_entry():
+    v = claims.evaluate(claims.get("ch4.speedup_from_reduced_search_space"), {})
+    assert v["decidability"]["seeds_needed"] is None and v["decidability"]["paper_seeds"] == 10
+    assert "intervention" in v["decidability"]["untestable"]

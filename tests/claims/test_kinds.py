@@ -94,3 +94,13 @@ def test_the_status_table_counts_each_kind_per_chapter(kind):
     md = "\n".join(status.status_md(list(rows.values())))
     assert f"(inconclusive: 1 {counted}, 1 ambiguous" in md
     assert f"inconclusive: 1 {counted}" in status.status_html(list(rows.values()))
+
+
+def test_the_paper_seed_count_is_a_seeds_list_not_any_list_a_result_reads():
+    """ch4's slope results read ``ch4.conditions.grades`` (two grades, not two seeds) and
+    coopt's gradients read ``coopt.hidden`` (two widths): the seed counts are the
+    sections' ``seeds`` (10 for chapter 4, 5 for coopt's gradients)."""
+    assert kinds.paper_seeds(["ch4/fig4_5"]) == 10
+    assert kinds.paper_seeds(["ch4/table4_2"]) == 10
+    assert kinds.paper_seeds(["coopt/gradients"]) == 5
+    assert kinds.paper_seeds(["ch7/arm_random"]) == 1

@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import re
 
-from thesis import cli
+from thesis import claims, cli
 from thesis.claims import calibration
 from thesis.report import render
 from thesis.report import verdicts as V
@@ -81,8 +81,12 @@ def test_method_section_shows_the_power_table_and_says_when_missing():
     assert "a configuration works (ch. 6)" in page and "success rate 0.6" in page
     # header and one row per rule and truth: rules 4, 5, 10 and the rate rule's two
     assert page[page.index("<h3>Power"):].count("<tr>") == 1 + 5
-    # the decidability test's seed counts come before it, one row per sized claim
+    # the decidability test's seed counts come before it, one row per claim
     assert "Seeds a claim needs" in page and "ch7.arm_fixed_point_learned_quickly" in page
+    table = page[page.index("Seeds a claim needs"):page.index("<h3>Power")]
+    assert table.count("<tr><td><code>") == len(claims.CLAIMS)
+    row = table[table.index("ch4.speedup_from_reduced_search_space"):].split("</tr>")[0]
+    assert "none up to 100" in row and "intervention" in row
     assert [h for h in ("3 seeds", "5 seeds", "40 seeds") if h in page] == [
         "3 seeds", "5 seeds", "40 seeds"]
     # the rate rule was computed at 5 and 40 seeds, the others at 3 and 5: "—" elsewhere

@@ -151,7 +151,9 @@ def _paper_config() -> dict:
 
 def _seeds_at(cfg: dict, path: str) -> int | None:
     """The seed count the config holds at dotted ``path`` (a ``seeds`` list there or in
-    the section it names), None when none."""
+    the section it names), None when none: a list at ``path`` that is not a ``seeds``
+    list (the grades ``ch4.conditions.grades`` names, coopt's hidden widths) counts
+    nothing."""
     node = cfg
     for part in path.split("."):
         if not isinstance(node, dict) or part not in node:
@@ -159,6 +161,8 @@ def _seeds_at(cfg: dict, path: str) -> int | None:
         node = node[part]
     if isinstance(node, dict):
         node = node.get("seeds")
+    elif path.rpartition(".")[2] != "seeds":
+        return None
     return len(node) if isinstance(node, (list, tuple)) else None
 
 
