@@ -71,18 +71,18 @@ SEEDS_NEEDED: dict[str, int | None] = {
     "ch4.pebbles_best_is_transferred": 10,
     "ch4.pebbles_transfer_best_close_to_flat": 3,
     "ch4.step_length_maximised_on_steep_slope": 3,
-    "ch5.limited_sensor_selection_suffices": 3,
-    "ch5.nonlinearity_needed": 3,
-    "ch5.reservoir_beats_quadratic_expansion": 3,
-    "ch5.reservoir_better_with_few_sensors": 3,
+    "ch5.limited_sensor_selection_suffices": 100,
+    "ch5.nonlinearity_needed": None,
+    "ch5.reservoir_beats_quadratic_expansion": 40,
+    "ch5.reservoir_better_with_few_sensors": 100,
     "ch5.rc_and_elm_equal_with_enough_inputs": 3,
     "ch5.recurrence_no_difference_unsupervised": 3,
-    "ch5.tactile_sensors_important": 3,
+    "ch5.tactile_sensors_important": 100,
     "ch5.generalises_to_frequencies_not_gaits": 3,
-    "ch5.rc_touch_best_overall": 3,
+    "ch5.rc_touch_best_overall": None,
     "ch5.lr_improves_with_dimensionality": 3,
     "ch5.train_test_gap": 3,
-    "ch5.single_gait_unsupervised_better": 3,
+    "ch5.single_gait_unsupervised_better": 40,
     "ch6.trot_h50_b5_stable": 3,
     "ch6.phase1_only_fails": 10,
     "ch6.learns_in_a_couple_of_strides": 10,
@@ -103,14 +103,14 @@ SEEDS_NEEDED: dict[str, int | None] = {
     "ch7.cmaes_fails_on_arm": 3,
     "ch7.scales_to_millions_of_parameters": 10,
     "ch7.vision_control_learned_through_camera": 3,
-    "ch7.quadruped_gait_in_500_evaluations": 3,
+    "ch7.quadruped_gait_in_500_evaluations": 20,
     "ch7.hand_tuned_trot": 3,
     "ch8.ch2_prior_in_architecture_beats_cnn": 100,
     "ch8.ch3_biological_trajectory_beats_sine": 3,
     "ch8.ch3_scapulae_help_maintain_speed": 3,
     "ch8.ch4_transfer_better_except_rocky": 3,
     "ch8.ch4_reduced_exploration": None,
-    "ch8.ch5_memory_important": 3,
+    "ch8.ch5_memory_important": 100,
     "ch8.ch6_stable_trot_in_few_periods_without_memory": 10,
     "ch8.ch6_signal_count_most_important": 10,
     "ch8.ch7_pendulum_from_pixels": 3,
@@ -135,8 +135,27 @@ _CAUSAL = ("a causal sentence (the speed-up 'is caused by' the smaller search sp
            "two correlations are decided at 3 seeds, but a cause needs an intervention on "
            "the search volume alone (random swarms confined to the transferred one's "
            "volume), which no experiment of the pipeline runs, so no seed count decides it")
+_FAILED_CLASSIFIER = ("a classifier that does not beat its training set's majority share is a "
+                      "failed run (rule 3b: its test accuracy anywhere from 0 to the test "
+                      "set's majority share, the other method's anywhere from 0 to 100), so "
+                      "with no failure seen in the paper profile's 5 seeds the failure rate "
+                      "may still be up to 58 %, which outweighs the thesis's advantage")
+_FAILED_GAIT = ("a run that diverged or never improved is a failed run (rule 3b, its speed "
+                "anywhere within the speeds the experiment recorded), so with no failure seen "
+                "in 3 seeds the failure rate may still be up to 77 %; the thesis-shaped runs "
+                "decide from 20 seeds (paper profile: 3)")
 #: Claim id -> why it cannot be decided at the paper profile's seed count.
 UNTESTABLE: dict[str, str] = {
+    "ch5.limited_sensor_selection_suffices": _FAILED_CLASSIFIER + " until about 100 seeds",
+    "ch5.nonlinearity_needed": _FAILED_CLASSIFIER + "; not decided at 100 seeds",
+    "ch5.rc_touch_best_overall": _FAILED_CLASSIFIER + "; not decided at 100 seeds",
+    "ch5.reservoir_beats_quadratic_expansion": _FAILED_CLASSIFIER + " until about 40 seeds",
+    "ch5.reservoir_better_with_few_sensors": _FAILED_CLASSIFIER + " until about 100 seeds",
+    "ch5.single_gait_unsupervised_better": _FAILED_CLASSIFIER + " until about 40 seeds",
+    "ch5.tactile_sensors_important": _FAILED_CLASSIFIER + " until about 100 seeds",
+    "ch8.ch5_memory_important": _FAILED_CLASSIFIER + " until about 100 seeds (the chapter "
+    "claim's rule and data)",
+    "ch7.quadruped_gait_in_500_evaluations": _FAILED_GAIT,
     "ch2.spatial_transformers_beat_plain": _FAILED_NETS + "; the thesis's 4.5-point "
     "advantage is decided from about 100 seeds (paper profile: 3)",
     "ch2.recurrent_beats_feedforward": _FAILED_NETS + "; the recurrent network's "
