@@ -9,6 +9,7 @@ import pytest
 from thesis.report.chapters import ch5
 from thesis.report.model import NOT_RUN
 
+from ..claims import test_ch5
 from ..claims.test_ch5 import fig5_3, table5_3, table5_4, table5_5, table5_6
 
 
@@ -44,10 +45,11 @@ def test_baselines_not_run_without_results():
     assert tables["table5_4"].rows[0][-2:] == [NOT_RUN, NOT_RUN]
 
 
-def test_fig5_3_note_names_its_baselines(tmp_path):
+def test_fig5_3_note_names_its_baselines(tmp_path, monkeypatch):
     import matplotlib
 
     matplotlib.use("Agg")
+    monkeypatch.setattr(test_ch5, "SEEDS", 3)  # the note's figures are those of 3 seeds
     ds = fig5_3()
     conf = np.ones((ds.sizes["seed"], 2, 5, 5), int)
     ds["confusion"] = (("seed", "test", "true", "predicted"), conf)
