@@ -230,8 +230,8 @@ PARAMETERS: tuple[Parameter, ...] = (
               "+-8-12 mm, the view grazes across it): the render's bounds 28-50 mm"),
     Parameter("knee_spring", "N m rad-1", 1.0, 10.0, 2.0,
               "docs/sources.md#oncilla-knee-spring: no source gives it; the bounds are the "
-              "calibration grid's (the model's own 10, which folds the standing knees "
-              "0.05 rad, down to 1, where Tab. 3.1a no longer walks)"),
+              "knee-spring calibration's grid (physics.oncilla_calibration.grid: the "
+              "model's own 10, which folds the standing knees 0.05 rad, down to 1)"),
     Parameter("drive_stiffness", "N m rad-1", 10.0, 40.0, 20.0,
               "docs/sources.md#oncilla-drives: no source converts the drivers' raw gains; "
               "the bounds put the 4 N m torque bound at 0.4-0.1 rad of error around the "
@@ -267,6 +267,8 @@ PROCEDURE = dict(
               "the error is to the nearer of the thesis's two speeds and 0 between them; plus "
               "fall_penalty per fallen start of either case; a case without a speed (fewer "
               "than half its starts up) costs undefined_cost",
+    # a fallen start costs as much as a speed off by a factor e^0.5 (1.65x), a case without
+    # a speed as much as one off by e^2 (7.4x)
     fall_penalty=0.25,
     undefined_cost=4.0,
     initial_points="the model's current values (Parameter.start) and design_points - 1 "
