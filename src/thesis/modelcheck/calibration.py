@@ -40,6 +40,9 @@ nothing is changed after seeing them. The procedure, fixed before any calibratio
   fit does not hold. The runs are deterministic in their kicks, so the fit's own run is its
   residual run: residual = |its speed - target|.
 * Then V2-V6 once (``model/validation``) on the fitted value at that setting.
+* **Reads** only the fitted side of the declared split (:mod:`thesis.modelcheck.split`):
+  V1's two speeds (:func:`thesis.modelcheck.targets.v1_speeds`), its frequency and Tab.
+  3.1a's parameters (tests/modelcheck/test_split.py checks it).
 
 The fitted value is what ``ch3.model.knee_spring`` and ``ch4.model.knee_spring`` hold
 (config/schema.yaml); the dataset records the configured value beside the fit, and
@@ -90,7 +93,7 @@ GAIT = "tab3_1a"
 
 def target_speed() -> float:
     """V1's calibration target [m/s]: the midpoint of the thesis's two speeds of Tab. 3.1a
-    at 1.5 Hz (§3.3.1.3's 0.27, §3.3.3's 0.30: :func:`thesis.modelcheck.targets.published_speeds`)."""
+    at 1.5 Hz (§3.3.1.3's 0.27, §3.3.3's 0.30: :func:`thesis.modelcheck.targets.v1_speeds`)."""
     lo, hi = target_band()
     return 0.5 * (lo + hi)
 
@@ -98,7 +101,7 @@ def target_speed() -> float:
 def target_band() -> tuple[float, float]:
     """(low, high) [m/s]: the thesis's two speeds of Tab. 3.1a at 1.5 Hz. A fit holds when
     the speed at the fit lies within them (§3.3.1.3, §3.3.3)."""
-    lo, hi = TG.published_speeds()["v1"]
+    lo, hi = TG.v1_speeds()
     return float(min(lo, hi)), float(max(lo, hi))
 
 
@@ -125,11 +128,10 @@ def starts_agree(speeds, fallen, width: float) -> bool:
 
 
 def v1_case() -> dict:
-    """The calibration's one case: Tab. 3.1a at V1's frequency (a :func:`validation.cases`
-    entry: ``gait``, ``family``, ``frequency`` [Hz], ``params`` (P,))."""
-    cs = [c for c in V.cases({"frequencies": [TG.V1_FREQUENCY]})
-          if c["gait"] == GAIT and abs(c["frequency"] - TG.V1_FREQUENCY) < 1e-9]
-    return cs[0]
+    """The calibration's one case: Tab. 3.1a at V1's frequency (a :func:`validation.case`:
+    ``gait``, ``family``, ``frequency`` [Hz], ``params`` (P,)), read from Tab. 3.1 alone."""
+    gait = next(g for g in TG.tab3_1_gaits() if g.name == GAIT)
+    return V.case(gait, TG.V1_FREQUENCY)
 
 
 def brackets(grid, speeds, target: float) -> list[tuple[float, float, float, float]]:

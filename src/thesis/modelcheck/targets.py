@@ -126,16 +126,21 @@ def _ch4_optima() -> list[PublishedGait]:
     return out
 
 
+def tab3_1_gaits() -> list[PublishedGait]:
+    """Tab. 3.1a (half ellipse) and Tab. 3.1b (spline), read from Tab. 3.1 alone: the gaits
+    of the calibration's fitted-on measurements (:mod:`thesis.modelcheck.split`)."""
+    return [PublishedGait("tab3_1a", "ellipse", _tab3_1("half_ellipse", ELLIPSE_ORDER),
+                          "Tab. 3.1a", True),
+            PublishedGait("tab3_1b", "spline", _tab3_1("spline", SPLINE_ORDER),
+                          "Tab. 3.1b", True)]
+
+
 def published_gaits() -> list[PublishedGait]:
     """Every published gait parameter vector of the loci families: Tab. 3.1a (half
     ellipse), Tab. 3.1b (spline) and the optima of Tab. 4.2-4.4 (spline; Tab. 4.3's and
     4.4's flat rows repeat Tab. 4.2's flat optimum and are left out). The
     sine gait was tuned by hand and never published (§3.3.1.1)."""
-    return [PublishedGait("tab3_1a", "ellipse", _tab3_1("half_ellipse", ELLIPSE_ORDER),
-                          "Tab. 3.1a", True),
-            PublishedGait("tab3_1b", "spline", _tab3_1("spline", SPLINE_ORDER),
-                          "Tab. 3.1b", True),
-            *_ch4_optima()]
+    return [*tab3_1_gaits(), *_ch4_optima()]
 
 
 #: The paper keys of V1's two speeds (§3.3.1.3's comparison speed, §3.3.3's forward speed):
@@ -143,16 +148,24 @@ def published_gaits() -> list[PublishedGait]:
 V1_PAPER_KEYS = ("fig3_4/gait=half_ellipse/speed_compared", "table3_2/forward_speed")
 
 
+def v1_speeds() -> tuple[float, float]:
+    """(lo, hi) [m/s]: V1's two published speeds of Tab. 3.1a at 1.5 Hz (§3.3.1.3's
+    comparison speed and §3.3.3's forward speed), read alone (:data:`V1_PAPER_KEYS`: on the
+    fitted side of :mod:`thesis.modelcheck.split`, what the calibration reads)."""
+    lo, hi = (paper.get(k).value for k in V1_PAPER_KEYS)
+    return float(lo), float(hi)
+
+
 def published_speeds() -> dict:
     """The published speeds the targets compare with [m/s], read from :mod:`thesis.paper`:
-    ``v1`` (lo, hi) of Tab. 3.1a at 1.5 Hz (§3.3.1.3's comparison speed and §3.3.3's
-    forward speed), ``v2`` {frequency [Hz]: speed} of Tab. 3.1b at 1.5 Hz and at its
-    fastest frequency (§3.3.1.3)."""
-    lo, hi = (paper.get(k).value for k in V1_PAPER_KEYS)
+    ``v1`` (lo, hi) of Tab. 3.1a at 1.5 Hz (:func:`v1_speeds`), ``v2`` {frequency [Hz]:
+    speed} of Tab. 3.1b at 1.5 Hz and at its fastest frequency (§3.3.1.3). The fastest is
+    validation only (:mod:`thesis.modelcheck.split`): no calibration calls this."""
+    lo, hi = v1_speeds()
     v15 = paper.get("fig3_4/gait=spline/frequency=1.5/speed").value
     vmax = paper.get("fig3_4/gait=spline/max_speed").value
     fmax = paper.get("fig3_4/gait=spline/max_speed_frequency").value
-    return dict(v1=(float(lo), float(hi)), v2={1.5: float(v15), float(fmax): float(vmax)})
+    return dict(v1=(lo, hi), v2={1.5: float(v15), float(fmax): float(vmax)})
 
 
 def speed_bounds(lo: float, hi: float | None = None) -> tuple[float, float]:

@@ -73,13 +73,18 @@ def cases(cfg: dict) -> list[dict]:
     for g in TG.published_gaits():
         if not g.flat:
             continue
-        fam = _family(g.family)
-        own = g.params[fam.index("f")]
+        own = g.params[_family(g.family).index("f")]
         for f in sorted({float(x) for x in cfg["frequencies"]} | {float(own)}):
-            p = np.array(g.params, np.float64)
-            p[fam.index("f")] = f
-            out.append(dict(gait=g.name, family=g.family, frequency=f, params=p))
+            out.append(case(g, f))
     return out
+
+
+def case(gait: TG.PublishedGait, frequency: float) -> dict:
+    """One case of :func:`cases`: the published ``gait`` at ``frequency`` [Hz], its other
+    parameters as published."""
+    p = np.array(gait.params, np.float64)
+    p[_family(gait.family).index("f")] = float(frequency)
+    return dict(gait=gait.name, family=gait.family, frequency=float(frequency), params=p)
 
 
 def start_kicks(root_seed: int, starts: int, sigma: float) -> np.ndarray:

@@ -154,10 +154,33 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
   ``stance_cable_taut`` of the validation) not converged; for the chapters' solver see
   Solver above.
-* **No foot plates**: the official simulation's render shows flat foot plates (visual
-  only, no size; docs/sources.md#oncilla-feet); here one toe sphere per foot. A plate
-  50 mm long pointing forward from each toe (a second toe sphere) made the published
-  gaits fall more (23 -> 34 of the validation's 85 runs, Jacobi order), so none is added.
+* **Foot plates** (opt-in, ``feet="plate"``; default ``"sphere"``: one toe sphere per
+  foot, the model every chapter runs). The official simulation's render
+  (docs/sources.md#oncilla-feet) shows each foot as a flat plate pointing forward, the
+  shank standing on it. Measured there through the floor lattice (as the track): length
+  72 +- 5 mm (62-87 mm over the four feet; 60-90 mm bounds where a fit needs it), width
+  38 +- 5 mm but open (per foot +-8-12 mm: bounds 28-50 mm), the toe 40 mm behind the
+  front edge and 32 mm ahead of the heel (about 4 mm behind the plate's centre), 4-7 mm
+  thick. The render shows the visual shape only; whether the contact shape is this plate
+  is not shown. Modelled as contact points: the toe sphere, and one ``PLATE_RADIUS`` (3
+  mm, half a 6-mm plate) sphere under each of the plate's four corners, ``toe_offset``
+  ahead of the toe (default ``foot_length / 2 + 4 mm``, the measured place of the toe) and
+  ``foot_length - toe_offset`` behind it, +-``foot_width / 2`` to the sides, their lowest
+  points level with the toe sphere's (the plate's underside; the standing height is the
+  sphere model's). The rounded heel is taken as its bounding rectangle's corners (the
+  rounding is not measured). The plate is rigid on the foot segment, flat and pointing
+  forward in the build pose (the render's standing robot; the segment stands
+  ``build_pose`` 's hip angle from vertical there), so it tilts with the segment as the hip
+  swings and the foot rolls onto its toe or heel edge. Its mass (``plate_mass``, 0.02 kg:
+  a 72 x 38 x 6 mm plate of a plastic of about 1.2 g/cm^3, a choice) is taken from the
+  foot segment's 0.06 kg, so each leg keeps its 0.27 kg and the robot its 5.1 kg: the foot
+  body is the segment (0.04 kg, its box) and the plate (a solid box) together, its origin
+  at their common centre of mass (the drawn segment box sits there, about 2 cm toward the
+  toe of the segment's middle). The corner spheres are added after the four toe spheres,
+  so :func:`toe_spheres` keeps its indices (:func:`plate_spheres`). An earlier trial, a
+  50 mm plate as one second sphere ahead of each toe, made the published gaits fall more
+  (23 -> 34 of the validation's 85 runs, Jacobi order); a two-toe plate of +-25 mm took
+  the falls of 96 random Tab. 4.1 trots from 35 % to 7 % (an earlier model).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction 0.8
   (rubber on a dry hard surface, docs/sources.md#oncilla-feet). Four 20 mm bumper spheres at
   the trunk's lower corners catch a fall. The floor plane z = 0 carries the material
@@ -188,7 +211,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from thesis.physics.models import leg_geometry as L
-from thesis.physics.builder import Builder
+from thesis.physics.builder import Builder, box_inertia
 
 #: Total mass [kg] (docs/sources.md#oncilla-mass).
 MASS = 5.1
@@ -211,6 +234,19 @@ MOTOR_UNIT = 0.36
 BUILD_DEPTH = 0.142
 #: Toe contact sphere radius [m].
 TOE_RADIUS = 0.010
+#: Foot models of :func:`oncilla` (``feet``).
+FEET = ("sphere", "plate")
+#: Foot plate length and width [m], measured in the official simulation's render
+#: (docs/sources.md#oncilla-feet: 72 +- 5 and 38 +- 5 mm; the width is open, 28-50 mm).
+FOOT_LENGTH, FOOT_WIDTH = 0.072, 0.038
+#: The toe's place behind the plate's centre [m] (docs/sources.md#oncilla-feet: the toe 40
+#: mm behind the front edge of a 72 mm plate).
+TOE_BEHIND_CENTRE = 0.004
+#: Radius of the plate's corner contact spheres [m]: half a 6 mm plate (4-7 mm in the
+#: render, docs/sources.md#oncilla-feet).
+PLATE_RADIUS = 0.003
+#: Mass of one foot plate [kg], taken from the foot segment's (a choice: no source).
+PLATE_MASS = 0.02
 #: Camera pixels (Wii remote IR camera, §3.2.1).
 CAMERA_PIXELS = (1024, 768)
 #: Commands per second (§3.2.2: "new commands to the robot every 10 ms").
@@ -271,7 +307,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
             contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi",
-            contact_relaxation=None, momentum=0.85):
+            contact_relaxation=None, momentum=0.85, feet="sphere", foot_length=FOOT_LENGTH,
+            foot_width=FOOT_WIDTH, toe_offset=None, plate_mass=PLATE_MASS):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
     Args:
@@ -320,8 +357,22 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         geom, hind_geom: the fore and the hind legs' geometry (defaults
             :func:`~thesis.physics.models.leg_geometry.oncilla_geometry` and
             :func:`~thesis.physics.models.leg_geometry.oncilla_hind_geometry`).
+        feet: ``"sphere"`` (default: one toe sphere per foot) or ``"plate"`` (the
+            render's foot plates, module docstring: the toe sphere and four corner spheres
+            per foot, :func:`plate_corners`). With plates, a ``field``'s ``"toes"`` are the
+            toe and corner spheres.
+        foot_length, foot_width [m]: the plate's size (``feet="plate"`` only).
+        toe_offset [m]: how far the plate reaches forward of the toe (None:
+            ``foot_length / 2 + TOE_BEHIND_CENTRE``, the measured place of the toe).
+        plate_mass [kg]: the plate's mass, taken from the foot segment's.
     The servo commands of :func:`commands_to_action` are in thesis joint angles.
     """
+    if feet not in FEET:
+        raise ValueError(f"oncilla feet must be one of {FEET}, got {feet!r}")
+    corners = plate_corners(foot_length, foot_width, toe_offset)
+    if feet == "plate" and not 0.0 <= plate_mass < LEG_MASSES[3]:
+        raise ValueError(f"plate_mass must lie in [0, {LEG_MASSES[3]}) kg (the foot "
+                         f"segment's mass), got {plate_mass}")
     legs = L.leg_geometries(geom, hind_geom)
     b = Builder("oncilla", dt=dt, solver_iterations=solver_iterations, friction=friction,
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
@@ -339,7 +390,7 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
     lx, ly, lz = (t / 2 for t in TRUNK)
     for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
         b.add_contact_sphere("trunk", 0.02, (sx * (lx - 0.02), sy * (ly - 0.02), -lz + 0.02))
-    toes = []
+    toes, plates = [], []
     for leg, side, (hx, hy, hz), geom in zip(L.LEGS, L.SIDES, HIPS, legs):
         femur, tibia, foot = geom.femur, geom.tibia, geom.foot
         hip0, knee0 = build_pose(geom)
@@ -355,8 +406,17 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         b.add_box(f"{leg}_drum", (drum_size, drum_size, drum_size), knee, mass=md, visible=False)
         b.add_box(f"{leg}_tibia", (0.015, 0.015, tibia), (knee + heel) / 2,
                   rot=_roty(hip0 + knee0 - math.pi), mass=mt, color=(0.9, 0.3, 0.1))
-        b.add_box(f"{leg}_foot", (0.012, 0.012, femur + foot), (top + toe) / 2,
-                  rot=_roty(hip0), mass=mfo, color=(0.3, 0.3, 0.3))
+        seg = (0.012, 0.012, femur + foot)
+        if feet == "plate":
+            centre, inertia = _plate_foot(seg, (top + toe) / 2, toe, _roty(hip0), mfo,
+                                          plate_mass, corners, foot_width)
+            b.add_box(f"{leg}_foot", seg, centre, rot=_roty(hip0), mass=mfo,
+                      color=(0.3, 0.3, 0.3), inertia=inertia)
+            plates.append([_roty(hip0).T @ (toe + c - centre) for c in corners])
+        else:
+            centre = (top + toe) / 2
+            b.add_box(f"{leg}_foot", seg, centre, rot=_roty(hip0), mass=mfo,
+                      color=(0.3, 0.3, 0.3))
         lim_s = (geom.scapula_min, geom.scapula_max)
         lim_h = (geom.hip_min - hip0, geom.hip_max - hip0)
         b.add_universal(f"{leg}_shoulder", "trunk", f"{leg}_femur", hip, (side, 0, 0),
@@ -369,14 +429,18 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         b.add_hinge(f"{leg}_heel", f"{leg}_tibia", f"{leg}_foot", heel, (0, -1, 0))
         b.add_spring(f"{leg}_link", f"{leg}_femur", f"{leg}_foot", hip, top, link_stiffness,
                      link_damping)
-        toes.append(b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS,
-                                         (0, 0, -(femur + foot) / 2)))
+        toe_at = ((0, 0, -(femur + foot) / 2) if feet == "sphere"
+                  else _roty(hip0).T @ (toe - centre))
+        toes.append(b.add_contact_sphere(f"{leg}_foot", TOE_RADIUS, toe_at))
         b.add_position_servo(f"{leg}_shoulder", scapula_gain, scapula_torque,
                              scapula_velocity, axis_index=0, name=f"{leg}_scapula")
         b.add_compliant_servo(f"{leg}_shoulder", drive_stiffness, drive_damping, hip_torque,
                               hip_velocity, axis_index=1, name=f"{leg}_hip")
         b.add_compliant_servo(f"{leg}_knee", drive_stiffness, drive_damping, knee_torque,
                               knee_velocity, name=f"{leg}_knee")
+    # the plates' corners after the four toes, so that the toes keep indices 4-7
+    for leg, offsets in zip(L.LEGS, plates):
+        toes += [b.add_contact_sphere(f"{leg}_foot", PLATE_RADIUS, o) for o in offsets]
     # onboard camera at the front of the trunk: camera z = body x, x = -body y, y = -body z
     cam_rot = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
     fw = 2.0 * math.tan(math.radians(16.5)) * 1e-3
@@ -409,6 +473,51 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
 def toe_spheres() -> tuple:
     """Contact-sphere indices of the four toes (LEGS order); 0-3 are the trunk bumpers."""
     return (4, 5, 6, 7)
+
+
+#: The plate's corners in :func:`plate_corners` order.
+PLATE_CORNERS = ("front_left", "front_right", "heel_left", "heel_right")
+
+
+def plate_spheres(feet: str = "sphere") -> tuple:
+    """Contact-sphere indices of the plates' corners (LEGS order, :data:`PLATE_CORNERS`
+    within a leg) of a model built with ``feet``; none for ``"sphere"``."""
+    return tuple(range(8, 8 + 4 * len(PLATE_CORNERS))) if feet == "plate" else ()
+
+
+def plate_corners(foot_length=FOOT_LENGTH, foot_width=FOOT_WIDTH, toe_offset=None):
+    """(4, 3) centres of a plate's corner spheres relative to the toe sphere's centre in
+    the build pose [m] (world axes: x forward, y left, z up), :data:`PLATE_CORNERS` order:
+    ``toe_offset`` (None: ``foot_length / 2 + TOE_BEHIND_CENTRE``) ahead of the toe and
+    ``foot_length - toe_offset`` behind it, +-``foot_width / 2`` to the sides, their lowest
+    points level with the toe sphere's (docs/sources.md#oncilla-feet)."""
+    length, width = float(foot_length), float(foot_width)
+    ahead = length / 2 + TOE_BEHIND_CENTRE if toe_offset is None else float(toe_offset)
+    if not (length > 0 and width > 0 and 0.0 <= ahead <= length):
+        raise ValueError(f"foot plate {length} x {width} m with the toe {ahead} m behind "
+                         "its front edge is not a plate under its toe")
+    dz = PLATE_RADIUS - TOE_RADIUS
+    return np.array([[ahead, width / 2, dz], [ahead, -width / 2, dz],
+                     [ahead - length, width / 2, dz], [ahead - length, -width / 2, dz]])
+
+
+def _plate_foot(seg_size, seg_centre, toe, rot, mass, plate_mass, corners, width):
+    """World centre of mass and body-frame inertia (3, 3) about it of a foot segment (box
+    ``seg_size`` centred at ``seg_centre``, rotation ``rot``) of ``mass - plate_mass`` and
+    its plate (a level box under the corners ``corners`` (4, 3) relative to the ``toe``,
+    ``width`` wide, ``2 PLATE_RADIUS`` thick) of ``plate_mass`` [kg]."""
+    m_seg = mass - plate_mass
+    lo, hi = corners[:, 0].min(), corners[:, 0].max()
+    plate_centre = toe + np.array([(lo + hi) / 2, 0.0, corners[0, 2]])
+    centre = (m_seg * seg_centre + plate_mass * plate_centre) / mass
+    # inertias in the body frame; the plate box is level in the world (rot^T turns it)
+    i_seg = box_inertia(m_seg, np.asarray(seg_size, np.float64))
+    i_plate = rot.T @ box_inertia(plate_mass, np.array([hi - lo, width, 2 * PLATE_RADIUS])) @ rot
+    inertia = i_seg + i_plate
+    for m, c in ((m_seg, seg_centre), (plate_mass, plate_centre)):
+        d = rot.T @ (c - centre)
+        inertia = inertia + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return centre, inertia
 
 
 def build_offsets(geom: L.LegGeometry | None = None,

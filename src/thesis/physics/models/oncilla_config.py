@@ -4,7 +4,9 @@
 Chapters 3, 4 and 6 (and the model's validation) configure the robot in a ``model``
 section (config/schema.yaml: ``dt``, ``solver_iterations``, ``knee_spring``,
 ``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``, the momentum
-order's ``momentum`` and, in ch6, the constraint softness ``joint_hz`` / ``contact_hz``)
+order's ``momentum``, in ch6 the constraint softness ``joint_hz`` / ``contact_hz``, and in
+ch4 the feet: ``feet`` (``sphere`` or ``plate``) with the plates' ``foot_length`` and
+``foot_width``)
 and chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
 have keeps :func:`oncilla`'s default.
 """
@@ -20,6 +22,8 @@ __all__ = ["oncilla_from_config", "oncilla_kwargs"]
 
 #: ``model`` keys passed on when present, with :func:`oncilla`'s default otherwise.
 _OPTIONAL_FLOATS = ("joint_hz", "contact_hz", "momentum")
+#: The foot plates' keys, passed on only with ``feet: plate`` (the sphere feet have none).
+_PLATE_FLOATS = ("foot_length", "foot_width")
 
 
 def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:
@@ -33,6 +37,9 @@ def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:
               relaxation=float(model["relaxation"]), sweep_order=str(model["sweep_order"]),
               contact_relaxation=None if cr is None else float(cr))
     kw.update({k: float(model[k]) for k in _OPTIONAL_FLOATS if k in model})
+    if model.get("feet", "sphere") != "sphere":
+        kw["feet"] = str(model["feet"])
+        kw.update({k: float(model[k]) for k in _PLATE_FLOATS if k in model})
     if tether is not None:
         kw.update(tether_rail_height=float(tether["rail_height"]),
                   tether_slack=float(tether["slack"]),
