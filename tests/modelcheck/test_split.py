@@ -173,6 +173,6 @@ def test_parameters_are_inside_their_bounds_and_cite_a_source():
         assert p.low < p.high and p.low <= p.start <= p.high, p.name
         assert "docs/sources.md#" in p.bounds_from, p.name
     with pytest.raises(ValueError, match="outside"):
-        S.Parameter("x", "m", 0.0, 1.0, 2.0, "docs/sources.md#x")
+        S.Parameter("x", "m", 0.0, 1.0, 2.0, "docs/sources.md#oncilla-feet")
     assert set(S.PROCEDURE["cases"]) == {(g, S.FIT_FREQUENCY) for p in S.parts(S.FITTED)
                                          for g in p.gaits}
