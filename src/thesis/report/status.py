@@ -50,9 +50,10 @@ SECTIONS: dict[str, tuple[str, str]] = {
     "ch2": ("chirp-Z spatial transformer networks on synthesised cluttered MNIST "
             "sequences (Tab. 2.2, §2.4 scaling)", "thesis.ch2"),
     "ch3": ("Oncilla trotting and turning gaits optimised by PSO (Tab. 3.1, 3.2, "
-            "Fig. 3.4, 3.5)", "thesis.gaits, thesis.optim"),
+            "Fig. 3.4, 3.5)", "thesis.ch3, thesis.gaits, thesis.optim"),
     "ch4": ("transfer learning of gaits with PSO: slopes, softer front legs, pebbles "
-            "(Tab. 4.2-4.4, Fig. 4.3, 4.5-4.10)", "thesis.gaits, thesis.optim.transfer"),
+            "(Tab. 4.2-4.4, Fig. 4.3, 4.5-4.10)",
+            "thesis.ch4, thesis.gaits, thesis.optim.transfer"),
     "ch5": ("terrain classification from simulated Puppy II recordings: LR, ELM, "
             "reservoirs, SFA + ICA, CMA-ES tuning (Tab. 5.3-5.6, Fig. 5.3)",
             "thesis.ch5"),
