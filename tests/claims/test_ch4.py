@@ -1,5 +1,5 @@
 """Chapter-4 claims (and their §8.1 restatements) decided on synthetic datasets laid out as
-thesis.gaits.transfer_artifacts writes them: each claim once on data that supports it
+thesis.ch4.transfer_artifacts writes them: each claim once on data that supports it
 (reproduced) and once on data that contradicts it (anything but reproduced)."""
 
 from __future__ import annotations

@@ -285,8 +285,8 @@ def test_datasets_without_baselines_do_not_decide():
 
 
 def test_majority_share_of_a_set():
-    from thesis.terrain.experiments import majority_share
-    from thesis.terrain.protocol import Segment
+    from thesis.ch5.experiments import majority_share
+    from thesis.ch5.protocol import Segment
 
     terrain = np.array([0, 0, 1, 2])
     segs = [Segment(0, 0, 300), Segment(1, 0, 140), Segment(2, 0, 60), Segment(3, 0, 100)]

@@ -9,7 +9,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from thesis.coopt.experiments import random_direction_steps
-from thesis.diffphys import bptt
+from thesis.ch7 import bptt
 
 
 def _run(seed: int, lr: float = 0.01, steps: int = 5):

@@ -15,7 +15,7 @@ import pytest
 
 from thesis import registry
 from thesis.config import load_config
-from thesis.embodied import loop
+from thesis.ch6 import loop
 from thesis.gaits import conditions as C
 from thesis.modelcheck import bench as B
 from thesis.modelcheck import checks as M

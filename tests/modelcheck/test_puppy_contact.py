@@ -25,7 +25,7 @@ def test_puppy_contact_is_registered_with_its_config():
     assert registry.resolve("model/puppy_contact") is PC.puppy_contact
     cfg = config.load_config("default")["physics"]["puppy_contact"]
     # every gait and frequency of Tab. 5.1 by default
-    from thesis.terrain.recordings import FREQUENCIES, TAB5_1
+    from thesis.ch5.recordings import FREQUENCIES, TAB5_1
     cells = {(g, f) for (g, _), counts in TAB5_1.items()
              for f, n in zip(FREQUENCIES, counts) if n}
     assert {(g["gait"], g["frequency"]) for g in cfg["gaits"]} == cells

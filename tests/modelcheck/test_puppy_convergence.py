@@ -17,9 +17,9 @@ from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck import puppy_convergence as PC
 from thesis.modelcheck import validation as V
 from thesis.report import validation as RV
-from thesis.terrain import gaits as G
-from thesis.terrain import recordings as R
-from thesis.terrain import sensors as S
+from thesis.ch5 import gaits as G
+from thesis.ch5 import recordings as R
+from thesis.ch5 import sensors as S
 
 
 def _recordings(tracks, touch_std):

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from thesis.config import load_config
-from thesis.embodied import sweep as S
+from thesis.ch6 import sweep as S
 from thesis.gaits import conditions as C
-from thesis.gaits import experiments as E
+from thesis.ch3 import experiments as E
 from thesis.physics.models.oncilla import oncilla
 from thesis.physics.models.oncilla_config import oncilla_kwargs
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from thesis.diffphys import bench_engine as be
-from thesis.diffphys import trot
+from thesis.ch7 import bench_engine as be
+from thesis.ch7 import trot
 
 
 def has(ds, dims_of):

@@ -90,7 +90,7 @@ def test_markdown_and_html_carry_the_numbers_read_from_claims():
     assert re.findall(r'data-chapter="([^"]+)"', page) == [*CHAPTERS, "ch8"]
     assert "0.317 m/s" in page and "[-0.01, 0.0345]" in page
     assert "no results" in page  # ch2: nothing on disk
-    assert "(<code>thesis.gaits, thesis.optim</code>)" in page  # the code behind ch3
+    assert "(<code>thesis.ch3, thesis.gaits, thesis.optim</code>)" in page  # the code behind ch3
 
 
 def test_long_result_lists_are_counted_not_listed():

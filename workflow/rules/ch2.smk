@@ -14,8 +14,8 @@
 # same time, three per core (per-update cost: ch2_train_step below; the jobs' own times:
 # benchmarks/<profile>/ch2/, reports/<profile>/measurements.md).
 
-from thesis.chirpz.data import training_memory_mb
-from thesis.chirpz.experiments import MODELS as CH2_MODELS
+from thesis.ch2.data import training_memory_mb
+from thesis.ch2.experiments import MODELS as CH2_MODELS
 
 CH2_SEEDS = [int(s) for s in config["ch2"]["seeds"]]
 

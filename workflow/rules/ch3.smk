@@ -1,4 +1,4 @@
-# Chapter 3: Oncilla trotting and turning gaits (thesis.gaits.experiments).
+# Chapter 3: Oncilla trotting and turning gaits (thesis.ch3.experiments).
 #
 # table3_1 (PSO of the sine, half-ellipse and spline trots, per seed) -> its optima feed
 # fig3_4 (speed vs frequency), robustness (perturbed optima), table3_2 (the five turning

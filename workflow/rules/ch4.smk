@@ -1,5 +1,5 @@
-# Chapter 4: transfer learning of Oncilla gaits with PSO (thesis.gaits.transfer_runs,
-# thesis.gaits.transfer_artifacts).
+# Chapter 4: transfer learning of Oncilla gaits with PSO (thesis.ch4.transfer_runs,
+# thesis.ch4.transfer_artifacts).
 #
 # flat (PSO on flat ground from a random swarm, per seed) -> transfer_slopes,
 # transfer_compliant and transfer_pebbly (each target condition twice per seed: the flat

@@ -1,4 +1,4 @@
-# Chapter 5: terrain classification from simulated Puppy II recordings (thesis.terrain).
+# Chapter 5: terrain classification from simulated Puppy II recordings (thesis.ch5).
 #
 # ch5_puppy_recordings simulates the trials of Tab. 5.1 once per profile into
 # data/synthetic/puppy/<profile>.h5; the four tables and the separability measurement
@@ -8,8 +8,8 @@
 # would push ch5 past its 40-minute budget on 2 cores (README).
 
 CH5_DATA_CODE = code_version(
-    *CORE_CODE, "physics", "terrain/data.py", "terrain/recordings.py", "terrain/gaits.py",
-    "terrain/sensors.py"
+    *CORE_CODE, "physics", "ch5/data.py", "ch5/recordings.py", "ch5/gaits.py",
+    "ch5/sensors.py"
 )
 
 

@@ -1,5 +1,5 @@
 # Chapter 6: an embodied trot and walk learned online on the simulated Oncilla
-# (thesis.embodied.experiments).
+# (thesis.ch6.experiments).
 #
 # teacher (the configured trot and walk run open loop as a check, or with
 # ch6.teacher.source = screen a screen of chapter 3's optima, input table3_1) -> its trot

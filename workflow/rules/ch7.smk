@@ -1,4 +1,4 @@
-# Chapter 7: the differentiable physics engine (thesis.diffphys; engine in thesis.physics).
+# Chapter 7: the differentiable physics engine (thesis.ch7; engine in thesis.physics).
 #
 # Five independent experiments (ball, arm_fixed, arm_random, quadruped_gait,
 # pendulum_pixels), the engine benchmark of Tab. 7.1 (table7_1) and, outside the default

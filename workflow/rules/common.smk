@@ -58,13 +58,13 @@ TABLES = {ch: [] for ch in CHAPTERS}
 CORE_CODE = ["__init__.py", "store.py", "cli.py", "config.py", "runctx.py", "seeding.py",
              "jaxsetup.py", "cpupins.py"]
 CHAPTER_CODE = {
-    "ch2": ["chirpz"],
-    "ch3": ["gaits", "optim", "physics"],
-    "ch4": ["gaits", "optim", "physics"],
-    "ch5": ["terrain", "physics"],
-    "ch6": ["embodied", "gaits", "physics"],
-    "ch7": ["diffphys", "physics", "optim"],
-    "coopt": ["coopt", "diffphys", "physics"],
+    "ch2": ["ch2"],
+    "ch3": ["ch3", "gaits", "optim", "physics"],
+    "ch4": ["ch4", "gaits", "optim", "physics"],
+    "ch5": ["ch5", "physics"],
+    "ch6": ["ch6", "gaits", "physics"],
+    "ch7": ["ch7", "physics", "optim"],
+    "coopt": ["coopt", "ch7", "physics"],
 }
 
 

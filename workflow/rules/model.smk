@@ -79,7 +79,7 @@ rule model_puppy_convergence:
         nc=result("model", "puppy_convergence"),
     params:
         cfg=cfg_slice("model/puppy_convergence"),
-        code=code_version(*CORE_CODE, "modelcheck", "terrain", "physics"),
+        code=code_version(*CORE_CODE, "modelcheck", "ch5", "physics"),
     log:
         log_path("model", "puppy_convergence"),
     benchmark:

@@ -71,7 +71,7 @@ def _paper_entry(key: str) -> dict[str, object]:
             "value": e.value, "unit": e.unit}
 
 
-#: Suffix of a perturbed twin's variable (:mod:`thesis.embodied.twins`).
+#: Suffix of a perturbed twin's variable (:mod:`thesis.ch6.twins`).
 TWIN_SUFFIX = "_perturbed"
 
 
@@ -99,7 +99,7 @@ def perturbed_view(results: Mapping[str, xr.Dataset],
     twins). Two kinds of twins: a result of ``twin_runs`` (the same experiment rerun with
     ``thesis --perturb``, ``results/<profile>-perturbed/``) replaces the result of the same
     key; a dataset that carries its twins' values (``<name>_perturbed``, chapter 6's
-    per-run twins, :mod:`thesis.embodied.twins`) has each variable replaced by its twin's.
+    per-run twins, :mod:`thesis.ch6.twins`) has each variable replaced by its twin's.
     Deciding a claim on the view decides it as the twin runs would have (issue: a verdict
     is fragile when a rounding-level perturbation of the runs moves it)."""
     view, twinned = replaced_view(results, twin_runs)

@@ -5,7 +5,7 @@ arms of every condition, and the claims are decided over seeds with the rules of
 :mod:`thesis.claims.stats` (rule 9 for "significantly better over all generations").
 
 Dataset contracts (``results/<profile>/ch4/<artifact>.nc``, written by
-:mod:`thesis.gaits.transfer_artifacts`; ``transfer`` = 1 with transfer, 0 without):
+:mod:`thesis.ch4.transfer_artifacts`; ``transfer`` = 1 with transfer, 0 without):
 
 - ``fig4_5``: ``score`` (seed, grade, transfer, generation, particle) [m/s], the §4.6
   score of every evaluated particle (speed; fallen robots below -1); ``grade`` in

@@ -1,10 +1,10 @@
 """Claims of chapter 6 (an embodied gait: hidden tanh layer, delay buffer, RLS readout).
 
-Dataset contracts (``results/<profile>/ch6/<artifact>.nc``, :mod:`thesis.embodied`): every
+Dataset contracts (``results/<profile>/ch6/<artifact>.nc``, :mod:`thesis.ch6`): every
 controller sweep (``trot``, ``walk``, ``linear_feedback``, ``minimal_hidden``,
 ``minimal_buffer``, ``minimal_training``) has dims ``config`` and ``seed`` and the
 variables ``success`` [1] (1: stable for the running stage
-and back in gait after power-on, :mod:`thesis.embodied.criteria`), ``outcome`` (one of
+and back in gait after power-on, :mod:`thesis.ch6.criteria`), ``outcome`` (one of
 fallen, dies_out, erratic, no_return, stable), ``train_mse`` [rad2]; per config
 ``hidden`` (H, 0 for linear feedback), ``buffer`` (B), ``n_signals`` (N),
 ``stage1_seconds``, ``role`` (``trot`` holds the base controller, role ``base``, its
@@ -267,7 +267,7 @@ def _configs(results: Results, key: str) -> list[str]:
 
 def _twin_success(results: Results, key: str):
     """(config, seed) 0/1 success of each run's perturbed twin (``success_perturbed``,
-    :mod:`thesis.embodied.twins`), or None where the dataset carries no twins: an event of
+    :mod:`thesis.ch6.twins`), or None where the dataset carries no twins: an event of
     an existential sentence counts only where the twin repeats it
     (:func:`thesis.claims.stats.decide_exists`)."""
     ds = results[key]

@@ -569,7 +569,7 @@ def gait_found(results: Results) -> Verdict:
 def _upright(results: Results) -> np.ndarray | None:
     """Per seed, whether the learned gait kept the robot upright: ``final_upright`` (cos of
     the spine's largest tilt from the vertical over the final policy's episode) at least
-    cos(``max_tilt_deg``), the hand-tuned trot's criterion (:mod:`thesis.diffphys.trot`);
+    cos(``max_tilt_deg``), the hand-tuned trot's criterion (:mod:`thesis.ch7.trot`);
     None when the result does not record it."""
     ds = results[GAIT]
     if "final_upright" not in ds.data_vars:
@@ -696,7 +696,7 @@ CLAIMS: tuple[Claim, ...] = (
         quote="With hand tuning on the robot model shown in Figure 7.3b, we were able to "
               "obtain a trotting motion with an average forward speed of 0.7 m/s.",
         summary="The fastest upright open-loop trot of a grid search over stride frequency, "
-                "hip and knee amplitudes, knee phase and offset (thesis.diffphys.trot) "
+                "hip and knee amplitudes, knee phase and offset (thesis.ch7.trot) "
                 "reaches 0.7 m/s on the quadruped (deterministic; a search lower bound).",
         paper_keys=("quadruped_gait/hand_tuned_speed", "quadruped_gait/episode_s"),
         requires=(GAIT,), reads=(f"{GAIT}:hand_tuned_speed",), fn=hand_tuned_trot,

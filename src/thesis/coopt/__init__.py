@@ -6,6 +6,6 @@ the gait objective on a body), :mod:`~thesis.coopt.estimators` (score-function a
 evolution-strategies estimates of the same gradient), :mod:`~thesis.coopt.experiments`
 (the registered experiments ``coopt/arms`` and ``coopt/gradients``).
 
-Imports :mod:`thesis.diffphys` (the chapter-7 networks, optimiser and trot) and the
+Imports :mod:`thesis.ch7` (the chapter-7 networks, optimiser and trot) and the
 engine; no chapter imports this package.
 """

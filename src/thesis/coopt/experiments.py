@@ -49,7 +49,7 @@ from jax.flatten_util import ravel_pytree
 from thesis import seeding
 from thesis.coopt import estimators as est
 from thesis.coopt import morphology, objective
-from thesis.diffphys import bptt, nets
+from thesis.ch7 import bptt, nets
 from thesis.errors import SimulationDiverged
 from thesis.physics import rollout
 from thesis.store import WALL_CLOCK
@@ -106,7 +106,7 @@ def random_direction_steps(net, u, keys, opt_c, opt_m):
         keys: (E,) JAX keys, one per update: the directions, standard normal per
             coordinate, drawn from them.
         opt_c, opt_m: the controller's and the body's optimisers
-            (:func:`thesis.diffphys.bptt.make_optimizer`).
+            (:func:`thesis.ch7.bptt.make_optimizer`).
 
     Returns:
         (net, u) after the E updates.

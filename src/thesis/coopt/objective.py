@@ -1,13 +1,13 @@
 """The closed-loop controller and the gait objective of the co-optimisation (thesis §8.2).
 
-Objective: chapter 7's gait objective (§7.3.3, :func:`thesis.diffphys.gait.speed_fn`):
+Objective: chapter 7's gait objective (§7.3.3, :func:`thesis.ch7.gait.speed_fn`):
 the spine's forward (x) velocity averaged over every step of an episode of fixed length,
 here as a function of the controller's parameters *and* the body's
 (:mod:`thesis.coopt.morphology`).
 
 Controller (a choice, departure ``ch8.coopt_controller``): a fixed open-loop trot
-(:func:`thesis.diffphys.trot.trot_controller`, the parameters of ``coopt.trot``) plus
-the §7.3.3 skip network (:func:`thesis.diffphys.nets.skip_apply`) closing the loop. Its
+(:func:`thesis.ch7.trot.trot_controller`, the parameters of ``coopt.trot``) plus
+the §7.3.3 skip network (:func:`thesis.ch7.nets.skip_apply`) closing the loop. Its
 16 inputs are sin and cos of 2 pi f t (the trot's frequency), the 8 servoed joint angles
 [rad] (knees 1-4, hips 1-4), the spine's up axis in its own frame (IMU attitude, 3) and
 its gyroscope [rad/s] times 0.1 (3). The network's output layer starts at zero
@@ -27,7 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from thesis.coopt import morphology
-from thesis.diffphys import nets, trot
+from thesis.ch7 import nets, trot
 from thesis.physics import rollout
 
 __all__ = ["N_INPUTS", "trot_params", "controller_fn", "init_net", "perturb", "speed_fn",
@@ -47,7 +47,7 @@ def build(cfg: dict, dtype=jnp.float32):
 
 
 def trot_params(cfg: dict) -> np.ndarray:
-    """(5,) the fixed open-loop trot (order :data:`thesis.diffphys.trot.PARAMS`)."""
+    """(5,) the fixed open-loop trot (order :data:`thesis.ch7.trot.PARAMS`)."""
     return np.array([float(cfg[k]) for k in trot.PARAMS])
 
 
@@ -74,7 +74,7 @@ def controller_fn(model, trot_p):
 
 def init_net(key, hidden, n_out=8, *, zero_output=True, output_scale=1.0,
              dtype=jnp.float32):
-    """The feedback network (:func:`thesis.diffphys.nets.skip_init`, ``N_INPUTS`` inputs).
+    """The feedback network (:func:`thesis.ch7.nets.skip_init`, ``N_INPUTS`` inputs).
     ``zero_output=False`` gives a network whose output weights are orthogonal times
     ``output_scale`` (a point with a dense gradient, for the estimator comparison)."""
     net = nets.skip_init(key, N_INPUTS, hidden, n_out, zero_output=zero_output, dtype=dtype)

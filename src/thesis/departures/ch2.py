@@ -41,7 +41,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "the default profile keeps the thesis's number of training sequences but "
              "validates on 2 000 and tests on 5 000 (15 000 test digits); the paper and gpu "
              "profiles "
-             "synthesise the thesis's sizes (stored as uint8, thesis.chirpz.data).",
+             "synthesise the thesis's sizes (stored as uint8, thesis.ch2.data).",
         why="The smoke profile must fit CI's time. The default profile keeps the thesis's "
             "training set and spends its budget on fewer passes over it (ch2.epochs): on a "
             "smaller training set its networks overfit (training error 0, test error flat "
@@ -145,7 +145,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "(ch2.train.max_epochs, overridden per model by ch2.ffn_spn.max_epochs and "
              "ch2.rnn_spn.max_epochs) of ch2.train.epoch_sequences sequences each (null: a "
              "whole pass; set: the next part of a stream of shuffled passes over the training "
-             "set, thesis.chirpz.train); the parameters of the best validation epoch are "
+             "set, thesis.ch2.train); the parameters of the best validation epoch are "
              "tested. A model may run its spatial cells at some d on another number of "
              "sequences per epoch (ch2.ffn_spn.epoch_sequences_by_d, "
              "ch2.rnn_spn.epoch_sequences_by_d). The default profile (d = 2, 3): FFN-SPN 3 "

@@ -103,7 +103,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "IMU and magnetometer signals, the 4 hip commands and their differences, and the "
              "differences of velocity and compass; 9 signals outside every group (camera "
              "position, orientation quaternion, lateral velocity, time) complete the 64 "
-             "(thesis.terrain.sensors).",
+             "(thesis.ch5.sensors).",
         why="Chosen to meet the thesis's counts with signals such a robot provides.",
     ),
     Departure(
@@ -116,7 +116,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "becomes round(L / 375) parts; normalisation over all the experiment's trials "
              "before selection; how the selections are drawn: departure "
              "ch5.trial_disjoint_folds.",
-        why="The most direct reading of §5.3.1 (thesis.terrain.protocol docstring).",
+        why="The most direct reading of §5.3.1 (thesis.ch5.protocol docstring).",
         config=("ch5.protocol",),
     ),
     Departure(

@@ -148,7 +148,7 @@ DEPARTURES: tuple[Departure, ...] = (
         thesis="§6.4: 'run stably' for a stated time and 'return to its gait' after power-on; "
                "three failure modes (output dies out, erratic motion, no return); no "
                "numbers.",
-        ours="Per run (thesis.embodied.criteria): not fallen (trunk below 0.08 m or tilted "
+        ours="Per run (thesis.ch6.criteria): not fallen (trunk below 0.08 m or tilted "
              "beyond 60 degrees) from the first training stage to power-off; on the last "
              "10 s of running the hip and knee outputs' amplitude 0.5-2 times the "
              "teacher's and their dominant frequency within 10 % of the teacher's with an "

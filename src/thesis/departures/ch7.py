@@ -70,7 +70,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "(ch7.ball.toi_correction).",
         why="Without it the landing time is a whole number of steps, the loss is piecewise "
             "constant in the throw, and gradient descent cannot raise the throw "
-            "(thesis.diffphys.ball).",
+            "(thesis.ch7.ball).",
         config=("ch7.ball.toi_correction",),
         thesis_config=(("ch7.ball.toi_correction", False),),
     ),
@@ -302,7 +302,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "(physics.bench.initial_velocity_std); timings are medians of "
              "physics.bench.repeats runs after compilation.",
         why="The thesis is silent. The attitude channels and a gentle output gain keep the "
-            "exact 10-s gradient finite in float32 (thesis.diffphys.bench_engine).",
+            "exact 10-s gradient finite in float32 (thesis.ch7.bench_engine).",
         config=("physics.bench.imu", "physics.bench.output_gain", "physics.bench.memory_units",
                 "physics.bench.initial_velocity_std", "physics.bench.repeats",
                 "physics.bench.hidden_layers"),

@@ -1,6 +1,12 @@
-"""Oncilla gait generation shared by chapters 3, 4 and 6: leg kinematics of the
-pantographic leg (:mod:`.leg`), the sine / half-ellipse / Bézier trot families
-(:mod:`.trajectories`) and smooth gait transitions (:mod:`.transitions`)."""
+"""The Oncilla gait library shared by chapters 3, 4 and 6 and the model checks (a library
+like :mod:`thesis.physics`, not a chapter: the chapters' experiments live in
+:mod:`thesis.ch3`, :mod:`thesis.ch4` and :mod:`thesis.ch6`).
+
+Modules: leg kinematics of the pantographic leg (:mod:`.leg`), the sine / half-ellipse /
+Bézier trot families (:mod:`.trajectories`), smooth gait transitions
+(:mod:`.transitions`), the batched gait simulation and its speed and fall terms
+(:mod:`.runner`), and the environments of §4.6 as model changes (:mod:`.conditions`, also
+the model checks' flat and untethered Oncilla)."""
 
 from thesis.gaits import leg as leg
 from thesis.gaits import trajectories as trajectories

@@ -59,7 +59,7 @@ O = importlib.import_module("thesis.physics.models.oncilla")
 #: The gait family of Tab. 4.1 (chapter 4's spline trot).
 FAMILY = T.SplineGait()
 #: The 8 encoders of chapter 6 (hip and knee of LF, RF, LH, RH): the order of
-#: ``thesis.embodied.loop.ENCODERS``.
+#: ``thesis.ch6.loop.ENCODERS``.
 ENCODERS = tuple(f"{leg}_{j}" for leg in L.LEGS for j in ("hip", "knee"))
 #: Indices of the 8 encoders' commands among the 12 (``O.SERVO_NAMES`` order).
 ENCODER_COMMANDS = tuple(O.SERVO_NAMES.index(n) for n in ENCODERS)
@@ -88,7 +88,7 @@ def encoder_dofs(model) -> np.ndarray:
     """(8,) engine dof indices of the ch6 encoders (:data:`ENCODERS` order): the hip
     servo's coordinate (second axis of the shoulder's universal joint) and the knee
     motor's side of the cable (femur -> drum hinge), as
-    ``thesis.embodied.loop.encoder_dofs``."""
+    ``thesis.ch6.loop.encoder_dofs``."""
     names = []
     for leg in L.LEGS:
         names += [f"{leg}_shoulder:1", f"{leg}_knee:0"]
@@ -97,7 +97,7 @@ def encoder_dofs(model) -> np.ndarray:
 
 def encoder_offsets() -> np.ndarray:
     """(8,) build-pose thesis angles [rad] added to the encoders' joint coordinates so
-    that they read thesis joint angles (``thesis.embodied.loop.encoder_offsets``)."""
+    that they read thesis joint angles (``thesis.ch6.loop.encoder_offsets``)."""
     return np.asarray(O.build_offsets(), np.float64)[list(ENCODER_COMMANDS)]
 
 

@@ -19,7 +19,7 @@ per 50-Hz sample as in the recordings:
   10-90 % rise time of the force (crossings interpolated linearly between the steps'
   forces; a step's force is its mean normal impulse / dt, stamped at the step's end, as
   the engine's sensor reports it). The time resolution is the model's step.
-* **gaits**: each ``gaits`` entry (:func:`thesis.terrain.gaits.commands`, ``ch5.gaits``;
+* **gaits**: each ``gaits`` entry (:func:`thesis.ch5.gaits.commands`, ``ch5.gaits``;
   the random gait's noise from stream ``model/puppy_contact/random`` of the root seed),
   from standing, measured over ``gait_seconds`` after ``warmup``: the share of steps in
   which each paw's normal force is below ``off_ground_threshold`` (off the ground), and
@@ -131,7 +131,7 @@ def terrain_model(model, material, skin_ratio: float):
     """``model`` with its single floor material replaced by ``material`` (friction,
     restitution, stiffness_hz, damping_ratio; a (4,) array, traced or not), the paws'
     skin gripping ``skin_ratio`` of the friction forward: the replacement the chapter's
-    recordings make (thesis.terrain.recordings)."""
+    recordings make (thesis.ch5.recordings)."""
     mu = material[0:1]
     return model.replace(material_friction=mu, material_friction_backward=mu,
                          material_friction_forward=float(skin_ratio) * mu,
@@ -242,7 +242,7 @@ def _plan(ch5: dict, cfg: dict, root_seed: int):
     """(terrains, gaits, materials (B, 4), lifts (B,) [m], commands (B, n_samples, 4)
     [rad], index) of the bench's runs, ``index`` giving the run of each terrain's stand
     and drop (T,) and gaits (T, G) (module docstring)."""
-    from thesis.terrain import gaits as G
+    from thesis.ch5 import gaits as G
 
     rate = float(ch5["recordings"]["sample_rate"])
     seconds = max(float(cfg["settle"]) + float(cfg["average"]),
@@ -432,7 +432,7 @@ def puppy_contact(ctx) -> xr.Dataset:
         coords=dict(terrain=terrains, paw=list(pup.LEGS), bound=ranges[1],
                     gait=[f"{g['gait']} {float(g['frequency']):g} Hz" for g in gaits],
                     gait_name=("gait", [str(g["gait"]) for g in gaits],
-                               dict(units="1", long_name="gait (thesis.terrain.gaits)")),
+                               dict(units="1", long_name="gait (thesis.ch5.gaits)")),
                     frequency=("gait", np.array([float(g["frequency"]) for g in gaits]),
                                dict(units="Hz", long_name="gait frequency (random: "
                                     "cut-off)"))),

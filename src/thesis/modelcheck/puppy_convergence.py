@@ -2,7 +2,7 @@
 II's recordings at the chapter's time step, at half of it and with twice the solver sweeps
 (the convergence table of the Puppy II, docs/architecture.md#engine-rules).
 
-Chapter 5's recordings (:func:`thesis.terrain.recordings.generate`) are made three times
+Chapter 5's recordings (:func:`thesis.ch5.recordings.generate`) are made three times
 from the same trial table, starts, terrain jitter, gait commands and sensor noise (the
 same seeds): at ``ch5.model``'s dt and sweeps, at dt / 2, and at dt with twice the sweeps
 (the settings of :data:`thesis.modelcheck.validation.SETTINGS`). Every non-empty cell of
@@ -45,9 +45,9 @@ import xarray as xr
 from thesis import store
 from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck import validation as V
-from thesis.terrain import gaits as G
-from thesis.terrain import recordings as R
-from thesis.terrain import sensors as S
+from thesis.ch5 import gaits as G
+from thesis.ch5 import recordings as R
+from thesis.ch5 import sensors as S
 
 #: Stream of the convergence's trial table, starts and noise (the same at every setting).
 EXPERIMENT = "model/puppy_convergence"

@@ -7,7 +7,7 @@ pose: the Oncilla each gait of ``oncilla_gaits`` (Tab. 3.1a's half ellipse, Tab.
 spline; :func:`thesis.modelcheck.targets.published_gaits`) under the ch4 protocol
 (``ch4.protocol.settle``, then the 1-s self-transition of
 :data:`thesis.modelcheck.checks.SELF_TRANSITION`), the Puppy II each of ``puppy_gaits``
-(:func:`thesis.terrain.gaits.commands` at its frequency on the model's default floor).
+(:func:`thesis.ch5.gaits.commands` at its frequency on the model's default floor).
 At each of ``times`` [s] the state and the step's servo commands are saved; nothing is
 random (no seed is drawn) and nothing is read from outside the run.
 
@@ -109,10 +109,10 @@ def oncilla_states(model_cfg: dict, gait: str, times, settle: float):
 
 def puppy_states(ch5: dict, gait: str, frequency: float, times):
     """(model, [(state, action)]): the Puppy II of ``ch5["model"]`` in float64 walking
-    ``gait`` at ``frequency`` [Hz] (:func:`thesis.terrain.gaits.commands` with
+    ``gait`` at ``frequency`` [Hz] (:func:`thesis.ch5.gaits.commands` with
     ``ch5["gaits"]``, held per sample of ``ch5["recordings"]["sample_rate"]``), saved
     at ``times`` [s]."""
-    from thesis.terrain import gaits as G
+    from thesis.ch5 import gaits as G
 
     pup = importlib.import_module("thesis.physics.models.puppy")
     mc = ch5["model"]

@@ -2,7 +2,7 @@
 
 H is the number of hidden (ELM) neurons, B the length of the delay buffer in controller
 time steps, N = (B + 1) H + 1 the number of signals the RLS readout receives. Artifacts
-(``thesis.embodied.experiments``) are named after the §6.5 experiments:
+(``thesis.ch6.experiments``) are named after the §6.5 experiments:
 ``trot`` (H = 50, B = 5), ``walk`` (H = 50, B = 12, 30 s stages), ``minimal_buffer``
 (H = 12 needs B >= 16), ``minimal_hidden`` (B = 0 needs H = 128 +- 32) and
 ``minimal_training`` (H = 250, B = 0: 1.18 s per stage). Entries ``sec6.2/*`` and

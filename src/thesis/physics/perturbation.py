@@ -9,7 +9,7 @@ a *perturbed twin*: the same computation from a start moved by about one float32
 * :func:`scale_positions` moves every body position of a state by ``relative * u``
   relative, ``u`` standard normal per coordinate from ``jax.random.key(seed)``; at
   ``relative`` ~1e-7 a coordinate moves by 0, 1 or a few ulp. Chapter 6's twin runs call
-  it per run (:mod:`thesis.embodied.twins`).
+  it per run (:mod:`thesis.ch6.twins`).
 * A *process-wide* relative size (:func:`set_relative`, :func:`scope`; ``thesis
   --perturb REL``) makes every :func:`thesis.physics.rollout` start from
   :func:`at_start` of its initial state, and lets a chapter perturb its other random

@@ -3,9 +3,9 @@
 Two datasets that the pipeline makes outside ``make all`` (``snakemake ch2_pilot``,
 workflow/rules/ch2.smk) and that the ch2 sizes of ``config/<profile>.yaml`` cite:
 
-- ``ch2/width_pilot`` (:func:`thesis.chirpz.width_pilot.width_pilot`): per-digit error of
+- ``ch2/width_pilot`` (:func:`thesis.ch2.width_pilot.width_pilot`): per-digit error of
   one Tab. 2.2 cell against the CPU time of its run, per width and run length;
-- ``ch2/train_step`` (:func:`thesis.chirpz.train_bench.train_step`): the time and XLA's
+- ``ch2/train_step`` (:func:`thesis.ch2.train_bench.train_step`): the time and XLA's
   floating-point operation count of one training step (forward, backward and update)
   per model, transform and d, and where the step's time goes.
 
@@ -81,7 +81,7 @@ def width_pilot_table(results: dict) -> Table:
                  rows=rows, note=note)
 
 
-#: The parts of a training step (:data:`thesis.chirpz.train_bench.PARTS`) shown, in order.
+#: The parts of a training step (:data:`thesis.ch2.train_bench.PARTS`) shown, in order.
 _PARTS = ("step", "forward", "localisation", "transform", "classifier", "update")
 
 

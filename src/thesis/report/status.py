@@ -48,18 +48,19 @@ STATUS_ORDER = ("reproduced", "not_reproduced", "inconclusive", "not_run")
 #: conclusions, which read the other chapters' results.
 SECTIONS: dict[str, tuple[str, str]] = {
     "ch2": ("chirp-Z spatial transformer networks on synthesised cluttered MNIST "
-            "sequences (Tab. 2.2, §2.4 scaling)", "thesis.chirpz"),
+            "sequences (Tab. 2.2, §2.4 scaling)", "thesis.ch2"),
     "ch3": ("Oncilla trotting and turning gaits optimised by PSO (Tab. 3.1, 3.2, "
-            "Fig. 3.4, 3.5)", "thesis.gaits, thesis.optim"),
+            "Fig. 3.4, 3.5)", "thesis.ch3, thesis.gaits, thesis.optim"),
     "ch4": ("transfer learning of gaits with PSO: slopes, softer front legs, pebbles "
-            "(Tab. 4.2-4.4, Fig. 4.3, 4.5-4.10)", "thesis.gaits, thesis.optim.transfer"),
+            "(Tab. 4.2-4.4, Fig. 4.3, 4.5-4.10)",
+            "thesis.ch4, thesis.gaits, thesis.optim.transfer"),
     "ch5": ("terrain classification from simulated Puppy II recordings: LR, ELM, "
             "reservoirs, SFA + ICA, CMA-ES tuning (Tab. 5.3-5.6, Fig. 5.3)",
-            "thesis.terrain"),
+            "thesis.ch5"),
     "ch6": ("an embodied trot and walk learned online (ELM + delay buffer + RLS), "
-            "power-off, minimal sizes (Fig. 6.4-6.6)", "thesis.embodied"),
+            "power-off, minimal sizes (Fig. 6.4-6.6)", "thesis.ch6"),
     "ch7": ("the differentiable engine: ball throw, Tab. 7.1, arm, quadruped gait, "
-            "pendulum from pixels", "thesis.physics, thesis.diffphys"),
+            "pendulum from pixels", "thesis.physics, thesis.ch7"),
     "coopt": ("§8.2 made real: controller and body co-optimised by gradient; the "
               "engine's gradient beside REINFORCE and ES estimates", "thesis.coopt"),
     "model": ("the simulated Oncilla's own checks (falls, roll-overs, push recovery) and "
@@ -100,7 +101,7 @@ class ChapterStatus:
         twinned, fragile: claims decided again on perturbed twin runs; of those, moved.
         native, isa_dependent: claims decided again on native twin runs; of those, moved.
         runs_twinned, runs_flipped: runs that carry their own perturbed twin (chapter 6,
-            the ``flipped`` variable of :mod:`thesis.embodied.twins`); of those, the runs
+            the ``flipped`` variable of :mod:`thesis.ch6.twins`); of those, the runs
             whose outcome the twin changed.
         headline: the headline claim's entry of ``claims.json`` (None when absent).
     """

@@ -17,7 +17,7 @@ the JSON's 20 solver iterations. With them, in this engine, the arm cannot carry
 weight: the static gravity torque about the shoulder is ~92 N m in the pose that puts the
 end effector on the §7.3.2.1 target (0.5, 0.5, 0.5) m and ~158 N m with the arm
 horizontal, so the arm falls and the end effector lies on the floor ~0.42 m from the
-target whatever the controller commands (measured; ``tests/diffphys/test_arm.py``). The
+target whatever the controller commands (measured; ``tests/ch7/test_arm.py``). The
 thesis's engine nevertheless reached the target within 1 cm. The reason is the quirk of
 docs/sources.md#tpx-step: the Theano engines add M^-1 J^T P with the *accumulated* impulse P on
 every one of the 20 PGS iterations, so the velocity change a servo row produces in one step is a sum

@@ -114,7 +114,7 @@ def teacher_table(results) -> Table:
                "(ch6.teacher.fixed), at the teacher frequency" if fixed else
                "Candidates: chapter 3's optima at the teacher frequency with scaled strides")
             + ", open loop through the whole protocol incl. the power-off "
-            "(thesis.embodied.teacher). Passed: upright until power-off and walking forward "
+            "(thesis.ch6.teacher). Passed: upright until power-off and walking forward "
             "after power-on.")
     for g in ds["gait"].values:
         if float(ds["teacher_passed"].sel(gait=g)) != 1:
@@ -165,7 +165,7 @@ def loop_table(results) -> Table:
                      fmt(float(e["cycle_multiplier"]))])
     m = d["cycle_multiplier"].values
     note = (f"Config {d['config'].values}. Multiplier: exp of the least-squares slope of the "
-            "log amplitude ratio per teacher period over the running stage (thesis.embodied."
+            "log amplitude ratio per teacher period over the running stage (thesis.ch6."
             "criteria.cycle_multiplier); < 1: the oscillation decays towards a fixed point "
             "by that factor per period. Median over seeds "
             f"{fmt(float(np.nanmedian(m)))}; below 0.95 in {int(np.sum(m < 0.95))} of "
