@@ -217,6 +217,30 @@ def test_a_contact_relaxation_outside_0_1_is_refused(value):
         Builder("x", contact_relaxation=value)
 
 
+def test_row_relaxation_acts_on_the_servo_rows_and_not_on_the_contacts(x64):
+    """The servo rows of the leg under its trunk take ``row_relaxation`` (a different
+    factor changes the sweeps, the same one changes nothing); the foot's contacts keep
+    theirs (solver module docstring, Momentum and Contact relaxation)."""
+    m, s = _leg_under_trunk()
+    leg = _problem(m, s)
+    foot, contacts, _ = _foot_on_three_contacts()
+    for order in ("jacobi", "blocks_first", "momentum"):
+        mk = m.replace(sweep_order=order, relaxation=jnp.asarray(0.6))
+        np.testing.assert_array_equal(_solve(mk.replace(row_relaxation=0.6), leg, 30),
+                                      _solve(mk, leg, 30))
+        assert np.abs(_solve(mk.replace(row_relaxation=0.8), leg, 30)
+                      - _solve(mk, leg, 30)).max() > 1e-6
+        fk = foot.replace(sweep_order=order, relaxation=jnp.asarray(0.7))
+        np.testing.assert_array_equal(_solve(fk.replace(row_relaxation=0.3), contacts, 30),
+                                      _solve(fk, contacts, 30))
+
+
+@pytest.mark.parametrize("value", [0.0, 1.5, -0.2])
+def test_a_row_relaxation_outside_0_1_is_refused(value):
+    with pytest.raises(ValueError, match=r"row_relaxation must be None or in \(0, 1\]"):
+        Builder("x", row_relaxation=value)
+
+
 def _solve_report(m, problem, iterations):
     v0, inv_m, inv_iw, blocks, rows = problem
     z = jnp.zeros((m.n_joint, 6), v0.dtype)
