@@ -109,8 +109,9 @@ class Builder:
         contact_relaxation: None (default: ``relaxation``) or the relaxation factor of the
             contact rows alone (``solver.py``, Contact relaxation).
         row_relaxation: None (default: ``relaxation``) or the relaxation factor of the
-            scalar rows that are not contacts (servo, limit, spring, tether), the joint
-            blocks keeping ``relaxation`` (``solver.py``, Momentum).
+            scalar rows that are not contacts (servo, limit, spring, tether), divided by
+            the number of rows of a joint coordinate that can act; the joint blocks keep
+            ``relaxation`` (``solver.py``, Momentum).
         joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
             :data:`JOINT_HZ`, ratio 1); physical, independent of dt.
         limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).

@@ -47,12 +47,15 @@ chain update in parallel and overshoot); a relaxation w maps mu to 1 - w (1 - mu
 the blocks need w below about (1 + 1/(1 + 2 beta)) / 1.96, 0.70 at beta 0.85 (0.7
 diverges). Its slowest modes (mu about 0.98) lie on the joint blocks and the contacts;
 the joints' scalar rows (servo, limit, spring) carry neither, and they take their own,
-larger factor (``model.row_relaxation``): with them at the blocks' factor no setting
-reaches 1e-2 in 40 sweeps on every saved Oncilla state of ``thesis bench solver``, at
-0.8 (blocks 0.65, contacts 0.5, beta 0.85) every state is within 1e-2 of the direct
-solution in 40 sweeps and within 1e-4 in 120 (blocks first: 240 and 480). These factors
-are the Oncilla's: on the Puppy II the rows diverge above about 0.65 and the contacts
-above 0.3, where one factor of 0.6 with contacts at 0.3 converges.
+larger factor (``model.row_relaxation``), divided by the number of rows of their joint
+coordinate that can act in this step (an idle limit has both bounds at 0): such rows
+share one Jacobian, so n of them updated in parallel overshoot n-fold (a mode at 1 - n w,
+as k contacts on one body), which the extrapolation turns into divergence (the Puppy
+II's knee spring and its engaged limit diverge at 0.8 undivided). With the rows at the
+blocks' factor no setting reaches 1e-2 in 40 sweeps on every saved Oncilla state of
+``thesis bench solver``; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.85 every
+Oncilla state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120
+(blocks first: 240 and 480), and the Puppy II's in 60 and 120.
 
 With ``momentum_restart`` a sweep whose update ``x_{k+1} - y_k`` points against the last
 change ``x_{k+1} - x_k`` (a negative inner product in the metric of the softened Delassus
@@ -242,8 +245,9 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=Fals
     contiguous axis, where XLA's loops vectorise over robots.
 
     Args:
-        idx: static ``ba, bb, ra, rb``; fric_idx: static friction bookkeeping
-            ``(ref, is_fric, cone)`` of ``constraint.scalar_rows``.
+        idx: static ``ba, bb, ra, rb``; fric_idx: static row bookkeeping
+            ``(ref, is_fric, cone, dof)`` of ``constraint.scalar_rows`` (``dof`` None
+            where the rows have none).
         relax: relaxation factor (scalar or (*B,)); the contact rows take
             ``m.contact_relaxation`` and the other scalar rows ``m.row_relaxation``
             instead where they are set. c: dict of :func:`_prepare`.
@@ -254,7 +258,7 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=Fals
         residual (*B).
     """
     ba, bb, ra, rb = idx
-    ref, is_fric, cone_rows = fric_idx
+    ref, is_fric, cone_rows, row_dof = fric_idx
     v0 = c["v0"]
     nb1, dtype, extra = v0.shape[0], v0.dtype, v0.ndim - 2
     mask = c["mask"]
@@ -265,7 +269,16 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=Fals
     is_contact = (np.arange(n_rows) >= cone_rows[0] - cone_rows[1] if cone_rows is not None
                   else np.zeros(n_rows, bool)).reshape((n_rows,) + (1,) * relax.ndim)
     if m.row_relaxation is not None:
-        relax_r = jnp.where(is_contact, relax_r, jnp.asarray(m.row_relaxation, dtype))
+        relax_rows = jnp.asarray(m.row_relaxation, dtype)
+        if row_dof is not None and np.any(row_dof >= 0):
+            # divided by the rows of the same joint coordinate that can act this step
+            # (bounds not both zero: an idle limit is clamped to 0): they share one
+            # Jacobian and overshoot together (module docstring, Momentum)
+            same = ((row_dof[:, None] == row_dof[None, :]) & (row_dof[:, None] >= 0))
+            acts = (c["hi"] > c["lo"]).astype(dtype)
+            n_act = jnp.tensordot(jnp.asarray(same, dtype), acts, axes=1)
+            relax_rows = relax_rows / jnp.maximum(n_act, 1.0)
+        relax_r = jnp.where(is_contact, relax_r, relax_rows)
     if m.contact_relaxation is not None and cone_rows is not None:
         relax_r = jnp.where(is_contact, jnp.asarray(m.contact_relaxation, dtype), relax_r)
     seg = np.concatenate([ba, bb, ra, rb]).astype(np.int32)
@@ -403,7 +416,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0, *,
     (:func:`_solve_batch_last`); otherwise it is the plain single-robot solver.
     """
     idx = (blocks["body_a"], blocks["body_b"], rows["body_a"], rows["body_b"])
-    fric_idx = (rows["ref"], rows["is_fric"], rows["cone"])
+    fric_idx = (rows["ref"], rows["is_fric"], rows["cone"], rows.get("dof"))
     blk = {k: blocks[k] for k in _BLOCK_KEYS}
     row = {k: rows[k] for k in _ROW_KEYS if k in rows}
 

@@ -146,8 +146,9 @@ class Model(_Replace):
             relaxation factor of the contact rows alone (normals, friction, torsion;
             :mod:`thesis.physics.solver`, Contact relaxation).
         row_relaxation: None (default: ``relaxation``) or the relaxation factor of the
-            other scalar rows (the joints' servo, limit and spring rows, tethers), the
-            joint blocks keeping ``relaxation`` (:mod:`thesis.physics.solver`, Momentum).
+            other scalar rows (the joints' servo, limit and spring rows, tethers), divided
+            by the number of rows of a joint coordinate that can act; the joint blocks
+            keep ``relaxation`` (:mod:`thesis.physics.solver`, Momentum).
         reortho_iterations: eq. 7.1 steps per time step.
         joint_names, joint_type (n_joint,) JointType, joint_body1/joint_body2 (n_joint,)
             body indices, joint_row_mask (n_joint, 6) bool: which of the 6 equality rows
