@@ -51,7 +51,7 @@ larger factor (``model.row_relaxation``), divided by the number of rows of their
 coordinate that can act in this step (an idle limit has both bounds at 0): such rows
 share one Jacobian, so n of them updated in parallel overshoot n-fold (a mode at 1 - n w,
 as k contacts on one body), which the extrapolation turns into divergence (the Puppy
-II's knee spring and its engaged limit diverge at 0.8 undivided). With the rows at the
+II's knee spring and its engaged limit, undivided, diverge above about 0.65). With the rows at the
 blocks' factor no setting reaches 1e-2 in 40 sweeps on every saved Oncilla state of
 ``thesis bench solver``; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.85 every
 Oncilla state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120
