@@ -30,30 +30,40 @@ def test_sweeps_to_is_the_first_ladder_count_within_target_for_every_state():
     assert np.isnan(SB._sweeps_to(err, [10, 20, 40, 80], 1e-4))
 
 
+def _orders(*names):
+    """The default bench's ``orders`` entries of these names."""
+    bench = config.load_config("default")["physics"]["solver_bench"]
+    return [o for n in names for o in bench["orders"] if o["name"] == n]
+
+
 @pytest.mark.slow
-def test_momentum_order_reaches_the_direct_solution_in_a_third_of_the_sweeps():
-    """On saved float64 Oncilla states of Tab. 3.1b's spline (the chapters' model), the
-    momentum order is within 1e-4 of the reference at 120 sweeps, where blocks first (the
-    chapters' order) is still above 1e-3, and at 40 sweeps it is within 2.5e-2, a third
-    of blocks first's error there; the reference has converged. (40 sweeps do not bring
-    every state within 1e-2: 0.9-1.8e-2 on the bench's Oncilla states.)"""
+def test_momentum_order_is_within_a_percent_of_the_direct_solution_in_40_sweeps():
+    """On saved float64 Oncilla states of Tab. 3.1b's spline (the chapters' model; t = 1.5 s
+    is the worst of the bench's six states at 40 sweeps), the momentum order at its
+    bench relaxations is within 1e-2 of the reference in 40 sweeps and within 1e-4 in
+    120, where blocks first (the chapters' order) is 10x further off at 40 and still
+    above 1e-3 at 120; the reference has converged."""
     ctx = _ctx(times=[1.5, 2.0], oncilla_gaits=["tab3_1b"],
-               puppy_gaits=[{"gait": "bound_right", "frequency": 1.0}], sweeps=[40, 120])
+               puppy_gaits=[{"gait": "bound_right", "frequency": 1.0}], sweeps=[40, 120],
+               orders=_orders("blocks_first", "momentum", "momentum_uniform"))
     ds = SB.solver(ctx)
     assert float(ds["reference_residual"].max()) < 1e-10
     err = ds["relative_error"].sel(model="oncilla")
-    print(err.values, ds["sweeps_to"].values)
     mom, first = err.sel(order="momentum"), err.sel(order="blocks_first")
-    assert float(mom.sel(sweeps=40).max()) <= 2.5e-2
+    assert float(mom.sel(sweeps=40).max()) <= 1e-2
     assert float(mom.sel(sweeps=120).max()) <= 1e-4
-    assert float(first.sel(sweeps=40).min()) > 3 * float(mom.sel(sweeps=40).max())
+    assert float(first.sel(sweeps=40).min()) > 10 * float(mom.sel(sweeps=40).max())
     assert float(first.sel(sweeps=120).min()) > 1e-3
-    to = ds["sweeps_to"].sel(model="oncilla", order="momentum", target=1e-4)
-    assert float(to) == 120
+    to = ds["sweeps_to"].sel(model="oncilla", order="momentum")
+    assert float(to.sel(target=1e-2)) == 40 and float(to.sel(target=1e-4)) == 120
     # the residual the solve reports falls with the sweeps
     res = ds["residual"].sel(model="oncilla", order="momentum")
     assert np.all(res.sel(sweeps=120) < res.sel(sweeps=40))
-    # the Puppy II's states: every order converges towards the same reference
+    # one relaxation for blocks and rows is slower on the Oncilla
+    uni = err.sel(order="momentum_uniform")
+    assert float(uni.sel(sweeps=40).max()) > float(mom.sel(sweeps=40).max())
+    # the Puppy II's states: every order converges towards the same reference (its knee
+    # spring and engaged limit share the divided row factor)
     pup = ds["relative_error"].sel(model="puppy").dropna("state", how="all")
     assert pup.sizes["state"] == 2
     assert np.all(pup.sel(sweeps=120) < pup.sel(sweeps=40))

@@ -127,9 +127,10 @@ def test_contact_lcp_matches_enumerative_solution(x64):
     assert errs[-1] < 1e-6 and errs[-1] < errs[0], errs
 
 
-def _leg_under_trunk():
+def _leg_under_trunk(knee_springs=False):
     """A light two-segment leg on a servo-driven universal joint under a 4-kg trunk (the
-    Oncilla's scapula/hip pattern), servos off their commands, torques unbounded."""
+    Oncilla's scapula/hip pattern), servos off their commands, torques unbounded; with
+    ``knee_springs`` two springs on the knee's coordinate instead of its servo."""
     b = Builder("leg", dt=0.0025)
     b.add_box("trunk", (0.4, 0.14, 0.07), (0, 0, 0.3), mass=4.0)
     b.add_box("femur", (0.02, 0.02, 0.065), (0.1, 0.1, 0.2325), mass=0.1)
@@ -138,7 +139,11 @@ def _leg_under_trunk():
     b.add_hinge("knee", "femur", "tibia", (0.1, 0.1, 0.2), (0, -1, 0))
     for name, axis in (("scapula", 0), ("swing", 1)):
         b.add_position_servo("hip", 10.0, 1e6, 1e6, axis_index=axis, name=name)
-    b.add_position_servo("knee", 50.0, 1e6, 1e6, name="knee")
+    if knee_springs:  # two springs on the knee's coordinate, no servo
+        for k, rest in ((1e3, 0.3), (2e3, -0.2)):
+            b.add_joint_spring("knee", k, 1.0, rest_angle=rest)
+    else:
+        b.add_position_servo("knee", 50.0, 1e6, 1e6, name="knee")
     b.set_velocity("trunk", (0.3, -0.2, 0.1), (0.5, -0.4, 0.2))
     b.set_velocity("femur", (0.1, 0.4, -0.2), (2.0, 1.0, -0.5))
     return b.build(jnp.float64)
@@ -215,6 +220,51 @@ def test_contact_relaxation_equal_to_relaxation_changes_nothing(x64):
 def test_a_contact_relaxation_outside_0_1_is_refused(value):
     with pytest.raises(ValueError, match=r"contact_relaxation must be None or in \(0, 1\]"):
         Builder("x", contact_relaxation=value)
+
+
+def test_row_relaxation_acts_on_the_servo_rows_and_not_on_the_contacts(x64):
+    """The servo rows of the leg under its trunk take ``row_relaxation`` (a different
+    factor changes the sweeps, the same one changes nothing); the foot's contacts keep
+    theirs (solver module docstring, Momentum and Contact relaxation)."""
+    m, s = _leg_under_trunk()
+    leg = _problem(m, s)
+    foot, contacts, _ = _foot_on_three_contacts()
+    for order in ("jacobi", "blocks_first", "momentum"):
+        mk = m.replace(sweep_order=order, relaxation=jnp.asarray(0.6))
+        np.testing.assert_array_equal(_solve(mk.replace(row_relaxation=0.6), leg, 30),
+                                      _solve(mk, leg, 30))
+        assert np.abs(_solve(mk.replace(row_relaxation=0.8), leg, 30)
+                      - _solve(mk, leg, 30)).max() > 1e-6
+        fk = foot.replace(sweep_order=order, relaxation=jnp.asarray(0.7))
+        np.testing.assert_array_equal(_solve(fk.replace(row_relaxation=0.3), contacts, 30),
+                                      _solve(fk, contacts, 30))
+
+
+def test_row_relaxation_is_shared_by_the_rows_of_one_joint_coordinate(x64):
+    """Two springs on one knee coordinate share one Jacobian: updated in parallel at the
+    momentum order's 0.65 they overshoot together and the extrapolation diverges;
+    ``row_relaxation`` is divided between them and the sweeps reach the direct solution
+    (solver module docstring, Momentum)."""
+    m, s = _leg_under_trunk(knee_springs=True)
+    problem = _problem(m, s)
+    dof = problem[4]["dof"]
+    assert np.sum(dof == dof[-1]) == 2 and dof[-1] >= 0  # the knee's two spring rows
+    jmat, minv, a, rhs, n_eq = _dense(m, *problem)
+    a[n_eq:, n_eq:] += np.diag(np.asarray(problem[4]["cfm_abs"]))  # the springs' softness
+    v_direct = np.asarray(problem[0]).reshape(-1) + minv @ jmat.T @ np.linalg.solve(a, rhs)
+    scale = np.abs(v_direct - np.asarray(problem[0]).reshape(-1)).max()
+    mk = m.replace(relaxation=jnp.asarray(0.65), sweep_order="momentum")
+    err = {r: [np.abs(_solve(mk.replace(row_relaxation=r), problem, k) - v_direct).max()
+               / scale for k in (1000, 2000)] for r in (None, 0.8)}
+    print(err)
+    assert min(err[None]) > 1.0, err
+    assert err[0.8][1] < 1e-3 and err[0.8][1] < err[0.8][0], err
+
+
+@pytest.mark.parametrize("value", [0.0, 1.5, -0.2])
+def test_a_row_relaxation_outside_0_1_is_refused(value):
+    with pytest.raises(ValueError, match=r"row_relaxation must be None or in \(0, 1\]"):
+        Builder("x", row_relaxation=value)
 
 
 def _solve_report(m, problem, iterations):

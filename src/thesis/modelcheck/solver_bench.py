@@ -13,12 +13,12 @@ random (no seed is drawn) and nothing is read from outside the run.
 
 Problems. A saved state's step, up to its solve (:func:`thesis.physics.step.solver_problem`,
 warm start included), is solved by every order of ``orders`` (sweep order, relaxation,
-contact relaxation, momentum) at every sweep count of ``sweeps``, and by the
-``reference`` settings at ``reference.sweeps``: many sweeps in float64, whose natural
-residual (:func:`thesis.physics.solver.solve`, ``report``) is recorded beside it and
-is at round-off where the reference has converged. All orders share the reference's
-fixed point (the projected updates' fixed point does not depend on the relaxation or
-the order), so the reference is the direct solution of the step's LCP.
+contact relaxation, relaxation of the other scalar rows, momentum) at every sweep count
+of ``sweeps``, and by the ``reference`` settings at ``reference.sweeps``: many sweeps in
+float64, whose natural residual (:func:`thesis.physics.solver.solve`, ``report``) is
+recorded beside it and is at round-off where the reference has converged. All orders
+share the reference's fixed point (the projected updates' fixed point does not depend on
+the relaxation or the order), so the reference is the direct solution of the step's LCP.
 
 Measure. The relative error of a solve is the kinetic-energy norm of its velocity error
 over that of the constraints' whole velocity change,
@@ -57,6 +57,8 @@ def _solver_kwargs(order: dict) -> dict:
               relaxation=jnp.asarray(float(order["relaxation"]), jnp.float64))
     cr = order.get("contact_relaxation")
     kw["contact_relaxation"] = None if cr is None else float(cr)
+    rr = order.get("row_relaxation")
+    kw["row_relaxation"] = None if rr is None else float(rr)
     if "momentum" in order:
         kw["momentum"] = float(order["momentum"])
     if "restart" in order:

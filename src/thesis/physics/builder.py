@@ -108,6 +108,10 @@ class Builder:
             Momentum); the other orders ignore both.
         contact_relaxation: None (default: ``relaxation``) or the relaxation factor of the
             contact rows alone (``solver.py``, Contact relaxation).
+        row_relaxation: None (default: ``relaxation``) or the relaxation factor of the
+            scalar rows that are not contacts (servo, limit, spring, tether), divided by
+            the number of rows of a joint coordinate that can act; the joint blocks keep
+            ``relaxation`` (``solver.py``, Momentum).
         joint_hz, joint_zeta: default joint softness [Hz], damping ratio (None:
             :data:`JOINT_HZ`, ratio 1); physical, independent of dt.
         limit_hz, limit_zeta: default joint-limit softness (None: :data:`LIMIT_HZ`).
@@ -126,7 +130,7 @@ class Builder:
                  restitution_threshold=None, contact_slop=0.0, friction=0.5,
                  restitution=0.0, contact_hz=None, contact_zeta=1.0, toi_correction=False,
                  sweep_order="jacobi", contact_relaxation=None, momentum=0.85,
-                 momentum_restart=True):
+                 momentum_restart=True, row_relaxation=None):
         self.name = name
         self.dt = float(dt)
         self.solver_iterations = int(solver_iterations)
@@ -141,6 +145,10 @@ class Builder:
                              f"{contact_relaxation!r}")
         self.contact_relaxation = (None if contact_relaxation is None
                                    else float(contact_relaxation))
+        if row_relaxation is not None and not 0.0 < float(row_relaxation) <= 1.0:
+            raise ValueError(f"row_relaxation must be None or in (0, 1], got "
+                             f"{row_relaxation!r}")
+        self.row_relaxation = None if row_relaxation is None else float(row_relaxation)
         if not 0.0 <= float(momentum) < 1.0:
             raise ValueError(f"momentum must be in [0, 1), got {momentum!r}")
         self.momentum = float(momentum)

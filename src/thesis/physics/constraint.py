@@ -84,7 +84,8 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         and static numpy ``body_a``, ``body_b``, ``ref``, ``is_fric`` (rows bounded by a
         box of ``fric`` times their normal impulse: torsion), ``cone`` (``(first, n)``:
         the ``t1`` rows are ``first ... first + n - 1``, the ``t2`` rows the next ``n``,
-        their normals the ``n`` rows before ``first``; ``None`` without contacts).
+        their normals the ``n`` rows before ``first``; ``None`` without contacts), ``dof``
+        (the joint coordinate of a servo, limit or joint-spring row, -1 for the others).
     """
     q, qdot, dja, djb = dofs
     dt = m.dt
@@ -207,7 +208,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         e = np.zeros((0,), np.int32)
         return dict(ja=jnp.zeros((0, 6), dtype), jb=jnp.zeros((0, 6), dtype), bias=z,
                     gamma=z, cfm_abs=z, lo=z, hi=z, fric=z, body_a=e, body_b=e, ref=e,
-                    is_fric=np.zeros((0,), bool), cone=None)
+                    is_fric=np.zeros((0,), bool), cone=None, dof=e)
     cols = list(zip(*parts))
     out = {k: jnp.concatenate(v) for k, v in zip(
         ("ja", "jb", "bias", "gamma", "cfm_abs", "lo", "hi", "fric"), cols[:8])}
@@ -227,4 +228,10 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
             is_fric[s:s + np_] = r == 3  # torsion: a box; t1, t2 (r = 1, 2): the cone
         cone = (contact_start + np_, np_)
     out["ref"], out["is_fric"], out["cone"] = ref, is_fric, cone
+    # the joint coordinate of each servo, limit and joint-spring row (they come first, in
+    # that order), -1 for the others: rows of one coordinate share their Jacobian
+    on_dof = [np.asarray(d, np.int32).reshape(-1) for d in (
+        m.servo_dof if m.n_servo else (), m.limit_dof, m.jspring_dof)]
+    on_dof = np.concatenate(on_dof) if on_dof else np.zeros((0,), np.int32)
+    out["dof"] = np.concatenate([on_dof, np.full((nr - len(on_dof),), -1, np.int32)])
     return out

@@ -40,16 +40,30 @@ after the extrapolation. The joint blocks are not projected, so the velocity cha
 their extrapolated impulses is extrapolated in the same way and carried from sweep to
 sweep, not scattered again: a sweep still scatters each group once. On a mode of T
 with eigenvalue mu the extrapolation turns the rate mu into about sqrt(mu beta) near mu
-= 1 (a slow mode is sped up) but amplifies modes with mu near -1: blocks first at
-relaxation 1 has such modes on the Oncilla (the joint blocks of one leg's chain update
-in parallel and overshoot), so the momentum order needs an under-relaxation (0.6 with
-beta 0.85 in ``thesis bench solver``; at 1.0 it diverges). With ``momentum_restart`` a
-sweep whose update ``x_{k+1} - y_k`` points against the last change ``x_{k+1} - x_k``
-(a negative inner product in the metric of the softened Delassus diagonal D, per robot)
-does not extrapolate: the momentum has overshot (the gradient scheme of adaptive
-restart, O'Donoghue and Candes 2015). The test is a ``jnp.where``, so the sweeps stay
-branch-free, of static count and differentiable (piecewise, like the projections). The
-returned impulses are ``x``, projected; the fixed point is that of the other orders.
+= 1 (a slow mode is sped up) but makes a mode with mu < -1/(1 + 2 beta) diverge (the
+roots of z^2 - mu (1 + beta) z + mu beta). Blocks first at relaxation 1 has modes at mu
+of about -0.96 on the Oncilla, carried by the joint blocks (the blocks of one leg's
+chain update in parallel and overshoot); a relaxation w maps mu to 1 - w (1 - mu), so
+the blocks need w below about (1 + 1/(1 + 2 beta)) / 1.96, 0.70 at beta 0.85 (0.7
+diverges). Its slowest modes (mu about 0.98) lie on the joint blocks and the contacts;
+the joints' scalar rows (servo, limit, spring) carry neither, and they take their own,
+larger factor (``model.row_relaxation``), divided by the number of rows of their joint
+coordinate that can act in this step (an idle limit has both bounds at 0): such rows
+share one Jacobian, so n of them updated in parallel overshoot n-fold (a mode at 1 - n w,
+as k contacts on one body), which the extrapolation turns into divergence (the Puppy
+II's knee spring and its engaged limit, undivided, diverge above about 0.65). With the rows at the
+blocks' factor no setting reaches 1e-2 in 40 sweeps on every saved Oncilla state of
+``thesis bench solver``; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.85 every
+Oncilla state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120
+(blocks first: 240 and 480), and the Puppy II's in 60 and 120.
+
+With ``momentum_restart`` a sweep whose update ``x_{k+1} - y_k`` points against the last
+change ``x_{k+1} - x_k`` (a negative inner product in the metric of the softened Delassus
+diagonal D, per robot) does not extrapolate: the momentum has overshot (the gradient
+scheme of adaptive restart, O'Donoghue and Candes 2015). The test is a ``jnp.where``,
+so the sweeps stay branch-free, of static count and differentiable (piecewise, like the
+projections). The returned impulses are ``x``, projected; the fixed point is that of the
+other orders.
 
 Contact relaxation (``model.contact_relaxation``; None by default, the contact rows then
 use ``model.relaxation``). The contact rows of one sweep update in parallel from the same
@@ -57,7 +71,9 @@ velocities in either order, so k contacts pressing on one light body (a toe on a
 field touches the floor and up to ``field_k`` pebbles) each correct the same residual and
 together overshoot about k-fold: at relaxation 1.0 such a foot's contacts diverge. A
 separate factor for the contact rows (normals, friction, torsion) under-relaxes them alone
-and leaves the joints' servo, limit and spring rows at ``model.relaxation``.
+and leaves the joints' servo, limit and spring rows at ``model.relaxation``, or at
+``model.row_relaxation`` where that is set (Momentum); the joint blocks always take
+``model.relaxation``.
 
 Friction cone. The two friction rows of a contact are projected together (:func:`cone`):
 their impulse pair is scaled radially onto the disc of radius ``mu lambda_n`` (the
@@ -229,10 +245,12 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=Fals
     contiguous axis, where XLA's loops vectorise over robots.
 
     Args:
-        idx: static ``ba, bb, ra, rb``; fric_idx: static friction bookkeeping
-            ``(ref, is_fric, cone)`` of ``constraint.scalar_rows``.
+        idx: static ``ba, bb, ra, rb``; fric_idx: static row bookkeeping
+            ``(ref, is_fric, cone, dof)`` of ``constraint.scalar_rows`` (``dof`` None
+            where the rows have none).
         relax: relaxation factor (scalar or (*B,)); the contact rows take
-            ``m.contact_relaxation`` instead where it is set. c: dict of :func:`_prepare`.
+            ``m.contact_relaxation`` and the other scalar rows ``m.row_relaxation``
+            instead where they are set. c: dict of :func:`_prepare`.
         lam_joint0 (n_joint, 6, *B), lam_row0 (n_rows, *B): warm start.
         report: also return the final relative residual (:func:`solve`).
     Returns:
@@ -240,18 +258,29 @@ def _sweeps(m: Model, idx, fric_idx, relax, c, lam_joint0, lam_row0, report=Fals
         residual (*B).
     """
     ba, bb, ra, rb = idx
-    ref, is_fric, cone_rows = fric_idx
+    ref, is_fric, cone_rows, row_dof = fric_idx
     v0 = c["v0"]
     nb1, dtype, extra = v0.shape[0], v0.dtype, v0.ndim - 2
     mask = c["mask"]
     relax = jnp.asarray(relax, dtype)
     relax_j, relax_r = relax.reshape((1, 1) + relax.shape), relax.reshape((1,) + relax.shape)
+    # the contacts' rows are the last ones: normals, t1, t2 (and torsion) from here on
+    n_rows = c["bias"].shape[0]
+    is_contact = (np.arange(n_rows) >= cone_rows[0] - cone_rows[1] if cone_rows is not None
+                  else np.zeros(n_rows, bool)).reshape((n_rows,) + (1,) * relax.ndim)
+    if m.row_relaxation is not None:
+        relax_rows = jnp.asarray(m.row_relaxation, dtype)
+        if row_dof is not None and np.any(row_dof >= 0):
+            # divided by the rows of the same joint coordinate that can act this step
+            # (bounds not both zero: an idle limit is clamped to 0): they share one
+            # Jacobian and overshoot together (module docstring, Momentum)
+            same = ((row_dof[:, None] == row_dof[None, :]) & (row_dof[:, None] >= 0))
+            acts = (c["hi"] > c["lo"]).astype(dtype)
+            n_act = jnp.tensordot(jnp.asarray(same, dtype), acts, axes=1)
+            relax_rows = relax_rows / jnp.maximum(n_act, 1.0)
+        relax_r = jnp.where(is_contact, relax_r, relax_rows)
     if m.contact_relaxation is not None and cone_rows is not None:
-        # the contacts' rows are the last ones: normals, t1, t2 (and torsion) from here on
-        n_rows = c["bias"].shape[0]
-        is_contact = np.arange(n_rows) >= cone_rows[0] - cone_rows[1]
-        relax_r = jnp.where(is_contact.reshape((n_rows,) + (1,) * (relax.ndim)),
-                            jnp.asarray(m.contact_relaxation, dtype), relax_r)
+        relax_r = jnp.where(is_contact, jnp.asarray(m.contact_relaxation, dtype), relax_r)
     seg = np.concatenate([ba, bb, ra, rb]).astype(np.int32)
     seg_j, seg_r = seg[:len(ba) + len(bb)], seg[len(ba) + len(bb):]
 
@@ -387,7 +416,7 @@ def solve(m: Model, v0, inv_m, inv_iw, blocks, rows, lam_joint0, lam_row0, *,
     (:func:`_solve_batch_last`); otherwise it is the plain single-robot solver.
     """
     idx = (blocks["body_a"], blocks["body_b"], rows["body_a"], rows["body_b"])
-    fric_idx = (rows["ref"], rows["is_fric"], rows["cone"])
+    fric_idx = (rows["ref"], rows["is_fric"], rows["cone"], rows.get("dof"))
     blk = {k: blocks[k] for k in _BLOCK_KEYS}
     row = {k: rows[k] for k in _ROW_KEYS if k in rows}
 

@@ -116,6 +116,7 @@ def build_model(b, dtype):
         name=b.name, n_body=nb, body_names=tuple(x["name"] for x in b.bodies),
         solver_iterations=b.solver_iterations, reortho_iterations=b.reortho_iterations,
         sweep_order=b.sweep_order, contact_relaxation=b.contact_relaxation,
+        row_relaxation=b.row_relaxation,
         momentum=b.momentum, momentum_restart=b.momentum_restart,
         joint_names=tuple(j["name"] for j in J),
         joint_type=ints([int(j["type"]) for j in J]),

@@ -145,6 +145,10 @@ class Model(_Replace):
         contact_relaxation: None (default: the contact rows use ``relaxation``) or the
             relaxation factor of the contact rows alone (normals, friction, torsion;
             :mod:`thesis.physics.solver`, Contact relaxation).
+        row_relaxation: None (default: ``relaxation``) or the relaxation factor of the
+            other scalar rows (the joints' servo, limit and spring rows, tethers), divided
+            by the number of rows of a joint coordinate that can act; the joint blocks
+            keep ``relaxation`` (:mod:`thesis.physics.solver`, Momentum).
         reortho_iterations: eq. 7.1 steps per time step.
         joint_names, joint_type (n_joint,) JointType, joint_body1/joint_body2 (n_joint,)
             body indices, joint_row_mask (n_joint, 6) bool: which of the 6 equality rows
@@ -238,7 +242,7 @@ class Model(_Replace):
         "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched", "sweep_order",
-        "contact_relaxation", "momentum", "momentum_restart",
+        "contact_relaxation", "row_relaxation", "momentum", "momentum_restart",
     )
 
     name: str
@@ -291,6 +295,7 @@ class Model(_Replace):
     batched: bool = False
     sweep_order: str = "jacobi"
     contact_relaxation: float | None = None
+    row_relaxation: float | None = None
     momentum: float = 0.85
     momentum_restart: bool = True
 
