@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from thesis import paper
-from thesis.claims import ch3_ranges, sentences, stats
+from thesis.claims import ch3_ranges, failure_ranges, sentences, stats
 from thesis.claims.types import Claim, LayoutError, Results, Verdict, pick, variable
 
 FIG = "ch3/fig3_4"
@@ -93,10 +93,10 @@ def _beats(a, b, failed, ranges: tuple | None, **kw) -> Verdict:
     ``failed`` flags rule 3b, the failed seeds' advantage A - B in the range of A minus
     that of B (``ranges``: (range of A, range of B), each (low, high), or None for no
     declared range), widened to contain what the failed seeds recorded
-    (:func:`thesis.claims.ch3_ranges.containing`)."""
+    (:func:`thesis.claims.failure_ranges.containing`)."""
     bounds = None
     if failed is not None and ranges is not None:
-        bounds = ch3_ranges.containing(ch3_ranges.difference_range(*ranges),
+        bounds = failure_ranges.containing(failure_ranges.difference_range(*ranges),
                                        np.asarray(a, float) - np.asarray(b, float), failed)
     return stats.decide_beats(a, b, higher_is_better=True, failed=failed,
                               failure_bounds=bounds, **kw)
@@ -124,7 +124,7 @@ def _high_band_ranges(results: Results, gaits: list[str]) -> dict:
     ds = results[FIG]
     f = np.asarray(ds["frequency"].values, float)
     high = f > paper.get(KNEE_KEY).value
-    return {g: ch3_ranges.linear_range(np.full(high.sum(), 1.0 / high.sum()),
+    return {g: failure_ranges.linear_range(np.full(high.sum(), 1.0 / high.sum()),
                                        ch3_ranges.top_speed(ds, g)[high]) for g in gaits}
 
 
@@ -197,9 +197,9 @@ def sine_flattens(results: Results) -> Verdict:
         # are linear in the speeds (least-squares weights), so their ranges follow
         top = ch3_ranges.top_speed(results[FIG], "sine")
         w_lo, w_hi = _slope_weights(f, lo), _slope_weights(f, hi)
-        b_below = ch3_ranges.containing(ch3_ranges.linear_range(w_lo, top), below, failed)
-        b_flat = ch3_ranges.containing(
-            ch3_ranges.linear_range(w_hi - FLAT_SHARE * w_lo, top), flat, failed)
+        b_below = failure_ranges.containing(failure_ranges.linear_range(w_lo, top), below, failed)
+        b_flat = failure_ranges.containing(
+            failure_ranges.linear_range(w_hi - FLAT_SHARE * w_lo, top), flat, failed)
     return stats.combine({
         "proportional_below": stats.decide_threshold(below, bound=0.0, below=False,
                                                      label="slope_up_to_knee", failed=failed,

@@ -30,8 +30,6 @@ import functools
 import numpy as np
 import xarray as xr
 
-from thesis.claims import failure_ranges
-
 #: Shortest stance fraction t_stance f [d.u.] of each family (half ellipse: two or four
 #: feet on the ground, §3.3.1.2; spline: Tab. 4.1); the sine gait takes the smallest.
 SHORTEST_STANCE = {"half_ellipse": 0.5, "spline": 0.4, "sine": 0.4}
@@ -70,8 +68,3 @@ def top_speed(ds: xr.Dataset, gait: str) -> np.ndarray:
             return top
     return family_top_speed(gait, freqs)
 
-
-# generic helpers, re-exported for the chapter's checks
-linear_range = failure_ranges.linear_range
-difference_range = failure_ranges.difference_range
-containing = failure_ranges.containing

@@ -292,10 +292,8 @@ def limited_selection_suffices(results: Results) -> Verdict:
                                **_flagged(mini, useful, failed_classifiers(
                                    results, T53, selection="minimal", method="rc"),
                                    results, T53))
-    v = _with(v, rc_minimal=float(np.mean(_s(per, selection="minimal").values)),
-              rc_useful=float(np.mean(_s(per, selection="useful").values)))
-    return baseline_gate(v, {"rc_minimal": _s(per, selection="minimal").values,
-                             "rc_useful": _s(per, selection="useful").values},
+    v = _with(v, rc_minimal=float(np.mean(mini)), rc_useful=float(np.mean(useful)))
+    return baseline_gate(v, {"rc_minimal": mini, "rc_useful": useful},
                          majority(results, T53), chance=_chance(results, T53))
 
 
