@@ -177,10 +177,7 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   body is the segment (0.04 kg, its box) and the plate (a solid box) together, its origin
   at their common centre of mass (the drawn segment box sits there, about 2 cm toward the
   toe of the segment's middle). The corner spheres are added after the four toe spheres,
-  so :func:`toe_spheres` keeps its indices (:func:`plate_spheres`). An earlier trial, a
-  50 mm plate as one second sphere ahead of each toe, made the published gaits fall more
-  (23 -> 34 of the validation's 85 runs, Jacobi order); a two-toe plate of +-25 mm took
-  the falls of 96 random Tab. 4.1 trots from 35 % to 7 % (an earlier model).
+  so :func:`toe_spheres` keeps its indices (:func:`plate_spheres`).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction 0.8
   (rubber on a dry hard surface, docs/sources.md#oncilla-feet). Four 20 mm bumper spheres at
   the trunk's lower corners catch a fall. The floor plane z = 0 carries the material
