@@ -132,6 +132,18 @@ def _puppy():
     return importlib.import_module("thesis.physics.models.puppy")
 
 
+def terrain_model(model, material, skin_ratio: float):
+    """``model`` with its single floor material replaced by one terrain's ``material``
+    (friction, restitution, stiffness_hz, damping_ratio: a (4,) array, traced or not): the
+    terrain's friction coefficient backward and sideways, the paws' skin gripping
+    ``skin_ratio`` of it forward (module docstring)."""
+    mu = material[0:1]
+    return model.replace(material_friction=mu, material_friction_backward=mu,
+                         material_friction_forward=float(skin_ratio) * mu,
+                         material_restitution=material[1:2], material_hz=material[2:3],
+                         material_zeta=material[3:4])
+
+
 @functools.lru_cache(maxsize=8)
 def _chunk_fn(model_key, n_samples: int, steps: int, n_dev: int):
     """jit of one chunk for a batch: (materials, states, commands) -> (states, raw)."""
@@ -147,11 +159,7 @@ def _chunk_fn(model_key, n_samples: int, steps: int, n_dev: int):
     paws, trunk = pup.paw_spheres(model), pup.trunk_index(model)
 
     def one(mat, s0, cmds):
-        mu = mat[0:1]  # the terrain's coefficient; the paws' skin grips less forward
-        m = model.replace(material_friction=mu, material_friction_backward=mu,
-                          material_friction_forward=float(model_key[2]) * mu,
-                          material_restitution=mat[1:2], material_hz=mat[2:3],
-                          material_zeta=mat[3:4])
+        m = terrain_model(model, mat, model_key[2])
 
         def ctrl(_, sens, k, t):
             return cmds[jnp.minimum(k // steps, n_samples - 1)].astype(s0.pos.dtype), k + 1

@@ -5,9 +5,9 @@ contact values gathered from material sources (docs/sources.md#ch5-terrain-conta
 The robot is :func:`thesis.physics.models.puppy.puppy` at ``ch5.model``'s settings, on a
 flat floor of each terrain of ``ch5.terrains`` at its nominal values (no per-trial
 jitter), the floor material set as the chapter's recordings set it
-(:func:`terrain_model`). All runs of all terrains are one vmapped rollout of
-``max(settle + average, warmup + gait_seconds)`` simulated seconds, the hip commands held
-per 50-Hz sample as in the recordings:
+(:func:`thesis.ch5.recordings.terrain_model`). All runs of all terrains are one vmapped
+rollout of ``max(settle + average, warmup + gait_seconds)`` simulated seconds, the hip
+commands held per 50-Hz sample as in the recordings:
 
 * **stand**: the build pose, paws touching the floor, servos holding the build pose
   (command 0). After ``settle`` seconds, the mean over ``average`` seconds of each paw's
@@ -50,9 +50,10 @@ import numpy as np
 import xarray as xr
 
 from thesis import seeding
+from thesis.ch5.recordings import terrain_model
 from thesis.physics import rollout
 
-__all__ = ["SOURCED", "terrain_model", "simulate", "touchdown", "check", "puppy_contact"]
+__all__ = ["SOURCED", "simulate", "touchdown", "check", "puppy_contact"]
 
 #: Where the sourced values are written out, with their derivations.
 CITATION = "docs/sources.md#ch5-terrain-contact"
@@ -127,25 +128,13 @@ def check(value, low, high, tolerance: float) -> np.ndarray:
     return np.where(np.isnan(lo) & np.isnan(hi), "no source", np.where(ok, "pass", "fail"))
 
 
-def terrain_model(model, material, skin_ratio: float):
-    """``model`` with its single floor material replaced by ``material`` (friction,
-    restitution, stiffness_hz, damping_ratio; a (4,) array, traced or not), the paws'
-    skin gripping ``skin_ratio`` of the friction forward: the replacement the chapter's
-    recordings make (thesis.ch5.recordings)."""
-    mu = material[0:1]
-    return model.replace(material_friction=mu, material_friction_backward=mu,
-                         material_friction_forward=float(skin_ratio) * mu,
-                         material_restitution=material[1:2], material_hz=material[2:3],
-                         material_zeta=material[3:4])
-
-
 def simulate(ch5: dict, materials: np.ndarray, lifts: np.ndarray, commands: np.ndarray
              ) -> dict[str, np.ndarray]:
     """Run one batch of Puppy II robots (ch5.model settings) and record per step.
 
     Args:
         ch5: the ``ch5`` config section (``model``, ``recordings.sample_rate``).
-        materials: (B, 4) floor material of each robot (:func:`terrain_model`).
+        materials: (B, 4) floor material of each robot (:func:`thesis.ch5.recordings.terrain_model`).
         lifts: (B,) height [m] by which each robot's build pose is raised at release.
         commands: (B, n_samples, 4) hip commands [rad] per 50-Hz sample.
     Returns:
