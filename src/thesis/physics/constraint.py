@@ -230,8 +230,7 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
     out["ref"], out["is_fric"], out["cone"] = ref, is_fric, cone
     # the joint coordinate of each servo, limit and joint-spring row (they come first, in
     # that order), -1 for the others: rows of one coordinate share their Jacobian
-    on_dof = [np.asarray(d, np.int32).reshape(-1) for d in (
-        m.servo_dof if m.n_servo else (), m.limit_dof, m.jspring_dof)]
-    on_dof = np.concatenate(on_dof) if on_dof else np.zeros((0,), np.int32)
+    on_dof = np.concatenate([np.asarray(d, np.int32).reshape(-1) for d in (
+        m.servo_dof if m.n_servo else (), m.limit_dof, m.jspring_dof)])
     out["dof"] = np.concatenate([on_dof, np.full((nr - len(on_dof),), -1, np.int32)])
     return out
