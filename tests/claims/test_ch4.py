@@ -176,7 +176,10 @@ def test_not_significant_on_pebbles():
 
 def test_three_of_four_and_except_rocky():
     good = dict(fig4_5=fig4_5(0.1), fig4_7=fig4_7(0.0, 0.08), fig4_8=fig4_8(0.0, 0.0))
-    assert check("ch4.transfer_better_in_three_of_four", **good).status == "reproduced"
+    # "not harmed" on pebbles is rule 9's non-inferiority on runs without a failure flag:
+    # reproduced only from 40 seeds (tests/claims/test_decidability.py decides it there)
+    v = check("ch4.transfer_better_in_three_of_four", **good)
+    assert v.status == "inconclusive" and "from 40 seeds" in v.detail, v.detail
     assert check("ch8.ch4_transfer_better_except_rocky", **good).status == "reproduced"
     harmed = dict(good, fig4_8=fig4_8(0.0, -0.1))
     assert check("ch4.transfer_better_in_three_of_four", **harmed).status == "not_reproduced"

@@ -52,7 +52,7 @@ SEEDS_NEEDED: dict[str, int | None] = {
     "ch3.three_turning_strategies_fail": 3,
     "ch3.model_free_optimisation_feasible": None,
     "ch4.transfer_gives_better_gaits_in_all_cases": 5,
-    "ch4.transfer_better_in_three_of_four": 3,
+    "ch4.transfer_better_in_three_of_four": 40,
     "ch4.transfer_significant_on_slopes": 3,
     "ch4.transfer_significant_with_compliant_legs": 3,
     "ch4.transfer_not_significant_on_pebbles": 3,
@@ -156,6 +156,11 @@ UNTESTABLE: dict[str, str] = {
     "ch8.ch5_memory_important": _FAILED_CLASSIFIER + " until about 100 seeds (the chapter "
     "claim's rule and data)",
     "ch7.quadruped_gait_in_500_evaluations": _FAILED_GAIT,
+    "ch4.transfer_better_in_three_of_four": "its pebbles part, 'transfer does not harm', is "
+    "rule 9's non-inferiority on runs that carry no failure flag beyond a fall: a second "
+    "mode of seeds nobody flags breaks its interval below 40 seeds (calibration, rule 9 "
+    "'not worse' under the bimodal laws), so it says 'reproduced' only from 40 seeds "
+    "(paper profile: 10); 'not reproduced' decides at 3",
     "ch2.spatial_transformers_beat_plain": _FAILED_NETS + "; the thesis's 4.5-point "
     "advantage is decided from about 100 seeds (paper profile: 3)",
     "ch2.recurrent_beats_feedforward": _FAILED_NETS + "; the recurrent network's "

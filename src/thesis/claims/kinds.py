@@ -106,7 +106,18 @@ def _groups(measured: Mapping[str, object]) -> dict[str, dict[str, float]]:
 
 
 def _part_seeds(m: Mapping[str, float]) -> float | None:
-    """N for one part's numbers (None when they size nothing)."""
+    """N for one part's numbers (None when they size nothing), at least the fewest seeds
+    its rule decides at (``seeds_needed_unflagged``: rule 9's "not worse" without a
+    failure flag)."""
+    floor = m.get("seeds_needed_unflagged")
+    n = _effect_seeds(m)
+    if floor is None:
+        return n
+    return float(floor) if n is None else max(float(floor), n)
+
+
+def _effect_seeds(m: Mapping[str, float]) -> float | None:
+    """N at which one part's measured effect and spread would decide (None: nothing)."""
     n = m.get("n_seeds")
     lows = [k[:-len("_ci_low")] for k in m if k.endswith("_ci_low")
             and not k.startswith("rate")]

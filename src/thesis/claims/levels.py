@@ -23,6 +23,14 @@ BUDGET_FACTOR = 2.0
 #: A - 0.5 of a small effect in Vargha and Delaney's A (2000: A = 0.56 small, 0.64
 #: medium, 0.71 large): rule 9's non-inferiority margin.
 SMALL_A_EFFECT = 0.06
+#: Fewest seeds at which rule 9's "A does not harm" says "reproduced" when its runs carry no
+#: failure flag: with 10-30 % of seeds at a second mode nobody flags, its t interval of the
+#: per-seed effect said "not worse" in 4-12 % of null draws at 3-20 seeds and held the
+#: 2.5 % level from 40 seeds on (:mod:`thesis.claims.calibration`, ``rule9_not_worse``
+#: under ``bimodal*``; tests/claims/test_calibration.py). A per-seed effect A - 0.5 is
+#: bounded by +-0.5, but a distribution-free interval of a bounded mean (Hoeffding: +-0.44
+#: at 10 seeds) is far wider than the 0.06 margin, so seeds are what decide it.
+NOT_WORSE_UNFLAGGED_MIN_SEEDS = 40
 #: The claims rule 9 decides.
 RUN_CLAIMS = ("better", "not_better", "no_difference")
 #: "roughly a factor F": within a factor 2 either side of F (log-symmetric). The thesis calls

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from thesis.claims.intervals import _failed_flags
-from thesis.claims.levels import RUN_CLAIMS, SMALL_A_EFFECT
+from thesis.claims.levels import NOT_WORSE_UNFLAGGED_MIN_SEEDS, RUN_CLAIMS, SMALL_A_EFFECT
 from thesis.claims.rules.common import _too_few
 from thesis.claims.rules.means import decide_beats, decide_threshold
 from thesis.claims.significance import run_statistics
@@ -97,7 +97,14 @@ def decide_not_worse(a, b, *, margin: float = SMALL_A_EFFECT, label_a: str = "a"
                      failure_bounds: tuple[float, float] | None = None) -> Verdict:
     """Rule 9, "A does not harm": rule 6 on the per-seed effect (mean A12 - 0.5 of runs
     ``a`` vs ``b``, (S, G, N) scores) above ``-margin``; ``failed`` / ``failure_bounds``
-    as in :func:`decide_runs_over_generations`."""
+    as in :func:`decide_runs_over_generations`.
+
+    Without ``failed`` (runs that carry no failure flag) a "reproduced" needs at least
+    :data:`~thesis.claims.levels.NOT_WORSE_UNFLAGGED_MIN_SEEDS` seeds with a finite
+    effect: below that, a second mode of seeds nobody flags breaks the t interval's level
+    (the calibration's ``bimodal*`` laws), and the verdict is inconclusive, saying how
+    many seeds would decide it. "Not reproduced" (the effect's interval below the margin)
+    holds its level under those laws and stands at any seed count."""
     e = run_statistics(a, b)["effect"]
     v = decide_threshold(e, bound=-margin, below=False,
                          label=f"A12_{label_a}_vs_{label_b}_minus_half", failed=failed,
@@ -105,4 +112,12 @@ def decide_not_worse(a, b, *, margin: float = SMALL_A_EFFECT, label_a: str = "a"
     statistic = (f"per seed: mean over generations of the Vargha-Delaney A of {label_a} vs "
                  f"{label_b} minus 0.5; " + v.statistic + f" (non-inferiority margin "
                  f"{margin:g}, a small effect)")
+    n = int(np.isfinite(e).sum())
+    need = NOT_WORSE_UNFLAGGED_MIN_SEEDS
+    if v.status == "reproduced" and failed is None and n < need:
+        return Verdict("inconclusive", {**v.measured, "n_seeds": n,
+                                        "seeds_needed_unflagged": need}, statistic,
+                       f"not worse on {n} seeds ({v.detail}), but runs without a failure "
+                       f"flag decide \"not worse\" only from {need} seeds on (a second mode "
+                       f"of seeds breaks the interval below that: calibration, rule 9)")
     return Verdict(v.status, v.measured, statistic, v.detail)
