@@ -61,6 +61,7 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec as P
 
+from thesis.physics.solver_settings import with_solver
 from thesis.store import WALL_CLOCK
 
 __all__ = [
@@ -324,11 +325,13 @@ def grid_dataset(run_cell, plats, batches, sizes, n_steps: int, dt: float):
 def table7_1(ctx):
     """``thesis bench physics``: Tab. 7.1 on the engine (see module docstring).
 
-    Reads ``physics.bench`` of the profile. Returns a dataset with dims ``device``,
+    Reads ``physics.bench`` of the profile (its ``solver``: the quadruped's sweep order
+    and factors, {} = the model's own). Returns a dataset with dims ``device``,
     ``batch``, ``n_params``, ``gradient`` (0 = forward only, 1 = with gradient).
     """
     cfg = ctx.full_config["physics"]["bench"]
     model, state0 = quadruped()
+    model = with_solver(model, cfg.get("solver", {}))
     dt = float(model.dt)
     n_steps = int(round(cfg["simulated_seconds"] / dt))
     n_mem = int(cfg["memory_units"])

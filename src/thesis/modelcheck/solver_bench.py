@@ -41,6 +41,7 @@ from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
 from thesis.modelcheck import checks as M
 from thesis.modelcheck import targets as TG
+from thesis.physics.solver_settings import solver_fields
 
 O = importlib.import_module("thesis.physics.models.oncilla")
 S = importlib.import_module("thesis.physics.step")
@@ -52,18 +53,10 @@ MODELS = ("oncilla", "puppy")
 
 
 def _solver_kwargs(order: dict) -> dict:
-    """Model fields of one ``orders`` / ``reference`` entry."""
-    kw = dict(sweep_order=str(order["sweep_order"]),
-              relaxation=jnp.asarray(float(order["relaxation"]), jnp.float64))
-    cr = order.get("contact_relaxation")
-    kw["contact_relaxation"] = None if cr is None else float(cr)
-    rr = order.get("row_relaxation")
-    kw["row_relaxation"] = None if rr is None else float(rr)
-    if "momentum" in order:
-        kw["momentum"] = float(order["momentum"])
-    if "restart" in order:
-        kw["momentum_restart"] = bool(order["restart"])
-    return kw
+    """Model fields of one ``orders`` / ``reference`` entry (float64 states); an entry
+    without a contact or row relaxation takes the blocks' (None), not the model's."""
+    return solver_fields({"contact_relaxation": None, "row_relaxation": None, **order},
+                         jnp.float64)
 
 
 def _march(model, state, action_at, times):
