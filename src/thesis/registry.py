@@ -170,7 +170,7 @@ READS: dict[str, tuple[str, ...]] = {
     "ch6/fig6_5": ("ch6.seeds",),
     "ch6/fig6_6": ("ch6.fig6_6",),
     "ch5/puppy_recordings": ("ch5.model", "ch5.recordings", "ch5.gaits", "ch5.terrains",
-                             "ch5.jitter", "ch5.noise"),
+                             "ch5.jitter", "ch5.noise", "ch5.touch"),
     "ch7/ball": ("ch7.ball",),
     "ch7/arm_fixed": ("ch7.arm_fixed",),
     "ch7/arm_random": ("ch7.arm_random",),

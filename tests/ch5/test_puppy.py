@@ -11,11 +11,9 @@ from thesis.ch5 import recordings as R
 
 def test_bound_moves_forward_upright_on_every_terrain():
     cfg = load_config("smoke")["ch5"]
-    pup = R._puppy()
     mcfg = cfg["model"]
-    model, state0 = pup.puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"],
-                              skin_ratio=mcfg["skin_ratio"])
-    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"])
+    model, state0 = R.puppy_model(cfg)
+    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"], "puppy_model")
     R._MODELS[key] = model
     rate = float(cfg["recordings"]["sample_rate"])
     steps = int(round(1.0 / rate / float(mcfg["dt"])))

@@ -72,3 +72,19 @@ def test_wrong_shape_and_missing_file(tmp_path):
     (tmp_path / "junk.h5").write_bytes(b"not hdf5")
     with pytest.raises(R.RecordingError, match=r"junk\.h5: not a valid recordings file"):
         R.load(tmp_path / "junk.h5")
+
+
+def test_fsr_clips_at_its_range_reads_nothing_below_actuation_and_more_while_unloading():
+    """The paw force sensor as the FSR 402 of docs/sources.md#ch5-touch: 0 below the
+    actuation force, clipped at the range, +hysteresis while the force falls, a per-sample
+    gain error of sd ``repeatability``."""
+    touch = dict(actuation=0.1, range=10.0, repeatability=0.0, hysteresis=0.1)
+    rng = np.random.default_rng(0)
+    f = np.array([0.05, 2.0, 4.0, 12.0, 3.0, 0.0])[:, None] * np.ones((1, 4))
+    r = R.fsr(f, touch, rng)
+    np.testing.assert_allclose(r[:, 0], [0.0, 2.0, 4.0, 10.0, 3.3, 0.0])
+    touch["repeatability"] = 0.02
+    steady = np.full((20000, 4), 5.0)
+    r = R.fsr(steady, touch, rng)
+    assert abs(np.std(r / 5.0 - 1.0) - 0.02) < 0.001
+    assert abs(np.mean(r) - 5.0) < 0.01

@@ -3,6 +3,7 @@
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 from thesis.physics import Builder, sensors, step
 
@@ -121,3 +122,47 @@ def test_torsional_friction_stops_spin_and_resting_contact_force():
     assert out[0.0] > 4.99
     # torque bound tors * m g against inertia 0.4 m r^2: spin decays at 25 * tors * g / 0.4
     assert out[0.02] < 0.05
+
+
+def _resting_depth(mass, stiffness, damping, dt=0.005, seconds=1.0):
+    """Depth [m] below the floor of a sphere of ``mass`` [kg] resting on a contact of
+    ``stiffness`` [N/m] and ``damping`` [N s/m], averaged over the last 0.2 s."""
+    r = 0.012
+    b = Builder("rest", dt=dt, solver_iterations=20, relaxation=1.0)
+    b.add_material("m", 0.6, 0.0, 50.0, 1.0, stiffness=stiffness, damping=damping)
+    b.add_plane("floor", (0, 0, 1), 0.0, "m")
+    b.add_sphere("paw", r, (0, 0, r), mass=mass)
+    b.add_contact_sphere("paw", r)
+    m, s = b.build(jnp.float32)
+    assert m.absolute_contact
+    n = int(round(seconds / dt))
+    _, z = _scan(m, s, n, lambda s: s.pos[0, 2])
+    return r - float(np.mean(np.asarray(z)[-int(round(0.2 / dt)):]))
+
+
+def test_contact_in_physical_units_sinks_weight_over_stiffness():
+    """A material with a stiffness [N/m] is a spring in physical units: a resting sphere
+    sinks m g / k whatever its mass (a relative softness would scale k with the mass),
+    at a stiffness the 5-ms step does not resolve (k = 16 kN/m under 0.375 kg rings at
+    33 Hz: the implicit spring stays stable)."""
+    for mass, k in ((0.375, 16e3), (1.5, 16e3), (0.375, 4e3)):
+        c = 2.0 * 0.1 * np.sqrt(k * mass)
+        np.testing.assert_allclose(_resting_depth(mass, k, c), mass * G / k, rtol=0.03)
+
+
+def test_relative_contact_model_has_no_physical_unit_rows():
+    """A model whose materials have no stiffness keeps the relative softness (its rows'
+    program is the one of before the option), and set_material refuses a stiffness on it."""
+    from thesis.physics import set_material
+
+    b = Builder("rel", dt=0.005)
+    b.add_material("m", 0.6, 0.0, 50.0, 1.0)
+    b.add_plane("floor", (0, 0, 1), 0.0, "m")
+    b.add_sphere("ball", 0.1, (0, 0, 0.1))
+    b.add_contact_sphere("ball", 0.1)
+    m, _ = b.build(jnp.float32)
+    assert not m.absolute_contact
+    with pytest.raises(ValueError, match="physical"):
+        set_material(m, "m", stiffness=1e4)
+    with pytest.raises(ValueError, match="damping only with a stiffness"):
+        b.add_material("x", 0.6, 0.0, 50.0, 1.0, damping=1.0)

@@ -3,10 +3,32 @@
 Every trial is Puppy II (:mod:`thesis.physics.models.puppy`) running one gait
 (:mod:`thesis.ch5.gaits`) at one frequency on one terrain for 3000-6500 samples at
 50 Hz. Terrains differ *only* in the floor's contact physics -- Coulomb friction,
-restitution and contact softness (natural frequency, damping ratio), the profile's
-``ch5.terrains`` -- each parameter jittered by a uniform +-``jitter`` per trial (the
-paws' directional skin takes ``ch5.model.skin_ratio`` of the friction forward), and the
-64 signals (:mod:`thesis.ch5.sensors`) carry white sensor noise (``ch5.noise``).
+restitution, and the paw-floor contact as a spring-damper in physical units (stiffness
+[N/m], damping ratio on the paw's share of the mass; :func:`terrain_model`), the
+profile's ``ch5.terrains`` -- each parameter jittered by a uniform +-``jitter`` per trial
+(the paws' directional skin takes ``ch5.model.skin_ratio`` of the friction forward), and
+the 64 signals (:mod:`thesis.ch5.sensors`) carry sensor noise (``ch5.noise``; the paw
+force sensors are modelled as force-sensing resistors, :func:`fsr`, ``ch5.touch``).
+
+Terrain values (docs/sources.md#ch5-terrain-contact, departure ``ch5.terrain_materials``):
+the stiffness is one paw's under its static load m g / 4 (Hertz contact of the 12 mm
+silicone paw, Shore 30-60 A, in series with the floor): F 8.6-25 kN/m (the paw alone on
+a hard floor), R 7.6-24 kN/m (rubber mat in series), S 2.7-6.3 kN/m (the secant of
+Styrofoam's crush plus the paw's own indentation: the crush is plastic, which the
+engine's elastic contact cannot be, so the secant stiffness is its declared elastic
+approximation); where a range is sourced and nothing selects within it, its geometric
+middle (F 14.66, R 13.51, S 4.12 kN/m). Linoleum and cardboard have only the paw's
+bound (k <= 25 kN/m): their own modulus is not found, so each is the paw alone on a hard
+floor (14.66 kN/m, declared: a floor compliance without a source is not invented).
+Damping ratio zeta = tan(delta) / 2 from the loss factor's geometric middle: the
+silicone paw's tan(delta) 0.10-0.30 (F, L, C: 0.087), SBR/NR rubber's zeta 0.05-0.125
+(R: 0.079); Styrofoam 1.0 (chosen: its crush returns no energy, e ~ 0, and a critically
+damped contact is the least damped that does not rebound). The energy loss of a contact
+is its damping only: restitution (the engine's hard velocity target at an approaching
+contact, which would replace the sourced spring at every touchdown) is 0 on every
+terrain. Friction: no source measures a rubber or silicone skin on any of the five
+floors, so the chosen coefficients stay (F 0.35, S 0.65, L 0.5, C 0.45, R 0.9; R's lies
+in the 0.8-1.0 of rubber on a dry hard surface).
 Each trial starts from standing at a random heading and position near the arena centre;
 a trial stops when the robot turns over (the trunk's up axis below ``fallen_up``), as
 an experimenter would stop it: without that, 9 of the 11 random-gait trials of the
@@ -19,9 +41,10 @@ claims.
 Simulation: the floor material is a model leaf, so every trial of every terrain runs in
 the same compiled rollout: a batch of trials (``batch`` robots, vmapped with per-robot
 materials, split over the XLA host devices) advances ``chunk_seconds`` at a time; 4
-physics steps of 5 ms make one 20 ms sample. Per sample the paw forces, accelerometer
-and gyroscope are averaged over the sample's steps (a sensor's anti-aliasing), the
-joint angles and the trunk pose are taken at its end. Trials are batched by length so
+physics steps of 5 ms make one 20 ms sample. Per sample the accelerometer and gyroscope
+are averaged over the sample's steps (a sensor's anti-aliasing); the paw forces (an FSR
+is instantaneous: a point sample, docs/sources.md#ch5-touch), the joint angles and the
+trunk pose are taken at its end. Trials are batched by length so
 that a batch runs only as long as its longest trial.
 
 File (``data/synthetic/puppy/<profile>.h5``, HDF5): ``signals`` (n_samples, 64)
@@ -66,7 +89,7 @@ TAB5_1 = {
     ("random", "S"): (0, 0, 0, 3, 0, 0, 0),
     ("random", "L"): (0, 0, 0, 4, 0, 0, 0),
 }
-_MATERIAL_KEYS = ("friction", "restitution", "stiffness_hz", "damping_ratio")
+_MATERIAL_KEYS = ("friction", "restitution", "stiffness", "damping_ratio")
 
 
 class RecordingError(ValueError):
@@ -134,14 +157,44 @@ def _puppy():
 
 def terrain_model(model, material, skin_ratio: float):
     """``model`` with its single floor material replaced by one terrain's ``material``
-    (friction, restitution, stiffness_hz, damping_ratio: a (4,) array, traced or not): the
-    terrain's friction coefficient backward and sideways, the paws' skin gripping
-    ``skin_ratio`` of it forward (module docstring)."""
+    (friction, restitution, stiffness [N/m], damping ratio: a (4,) array, traced or not):
+    the terrain's friction coefficient backward and sideways, the paws' skin gripping
+    ``skin_ratio`` of it forward (module docstring); the contact a spring-damper of that
+    stiffness with damping ``c = 2 zeta sqrt(k m_paw)`` [N s/m], ``m_paw`` the paw's share
+    m / 4 of the robot's mass (the mass docs/sources.md#ch5-terrain-contact rings on k;
+    its zeta = tan(delta) / 2 is the material's loss factor). ``model`` must have been
+    built with a contact in physical units (:func:`puppy_model`)."""
+    if not model.absolute_contact:
+        raise ValueError("terrain_model: the Puppy II must be built with a contact in "
+                         "physical units (thesis.ch5.recordings.puppy_model)")
+    import jax.numpy as jnp
+
     mu = material[0:1]
+    k = material[2:3]
+    c = 2.0 * material[3:4] * jnp.sqrt(k * (_puppy().MASS / 4.0))
     return model.replace(material_friction=mu, material_friction_backward=mu,
                          material_friction_forward=float(skin_ratio) * mu,
-                         material_restitution=material[1:2], material_hz=material[2:3],
-                         material_zeta=material[3:4])
+                         material_restitution=material[1:2], material_stiffness=k,
+                         material_damping=c)
+
+
+def puppy_model(ch5: dict):
+    """(model, state0) of the Puppy II at ``ch5.model``'s settings with its floor contact
+    in physical units (built on terrain F's stiffness and damping; every trial replaces
+    the material with its terrain's, :func:`terrain_model`)."""
+    import math
+
+    mcfg = ch5["model"]
+    pup = _puppy()
+    f = ch5["terrains"]["F"]
+    k = float(f["stiffness"])
+    return pup.puppy(dt=float(mcfg["dt"]), solver_iterations=int(mcfg["solver_iterations"]),
+                     skin_ratio=float(mcfg["skin_ratio"]),
+                     sweep_order=str(mcfg.get("sweep_order", "jacobi")),
+                     relaxation=float(mcfg.get("relaxation", 0.3)),
+                     momentum=float(mcfg.get("momentum", 0.85)), contact_stiffness=k,
+                     contact_damping=2.0 * float(f["damping_ratio"]) * math.sqrt(
+                         k * pup.MASS / 4.0))
 
 
 @functools.lru_cache(maxsize=8)
@@ -173,7 +226,7 @@ def _chunk_fn(model_key, n_samples: int, steps: int, n_dev: int):
 
         raw = dict(
             q=per_sample(tr["joint_angle"])[:, -1][:, np.concatenate([hips, knees])],
-            touch=per_sample(tr["contact_force"][:, paws]).mean(1),
+            touch=per_sample(tr["contact_force"][:, paws])[:, -1],
             acc=per_sample(tr["imu_acc"][:, trunk]).mean(1),
             gyro=per_sample(tr["imu_gyro"][:, trunk]).mean(1),
             pos=per_sample(tr["body_pos"][:, trunk])[:, -1],
@@ -225,6 +278,23 @@ def _wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
+def fsr(force: np.ndarray, touch: dict, rng: np.random.Generator) -> np.ndarray:
+    """(n, 4) paw force sensor readings [N] from the paws' simulated normal forces ``force``
+    (n, 4) [N], each a point sample of the step that ends the 20 ms sample
+    (docs/sources.md#ch5-touch: an FSR is instantaneous, the 50 Hz reading is a point
+    sample). ``touch`` (profile ``ch5.touch``): an Interlink FSR 402 as the section gives
+    it: nothing below the actuation force ``actuation`` [N], clipped at its ``range`` [N];
+    the reading is ``hysteresis`` higher while the force falls (sample to sample) than
+    while it rises, and varies by ``repeatability`` (a fraction; taken as the standard
+    deviation of a Gaussian gain per sample, a chosen reading of the sheet's +-2 %)."""
+    force = np.asarray(force, float)
+    falling = np.diff(force, axis=0, prepend=force[:1]) < 0
+    gain = (1.0 + float(touch["hysteresis"]) * falling) * (
+        1.0 + rng.normal(0.0, float(touch["repeatability"]), force.shape))
+    reading = np.where(force < float(touch["actuation"]), 0.0, force * gain)
+    return np.clip(reading, 0.0, float(touch["range"]))
+
+
 def signals_from_raw(raw: dict, cmds: np.ndarray, cfg: dict, rng: np.random.Generator,
                      sample_rate: float) -> np.ndarray:
     """(n, 64) signals of one trial (:data:`thesis.ch5.sensors.NAMES` order) from the
@@ -236,7 +306,7 @@ def signals_from_raw(raw: dict, cmds: np.ndarray, cfg: dict, rng: np.random.Gene
     def nz(shape, sd):
         return rng.normal(0.0, float(sd), shape)
 
-    touch = raw["touch"] + nz((n, 4), noise["touch"])
+    touch = fsr(raw["touch"], cfg["touch"], rng) + nz((n, 4), noise["touch"])
     joints = raw["q"] + nz((n, 8), noise["joint"])
     acc = raw["acc"] + nz((n, 3), noise["accelerometer"])
     gyro = raw["gyro"] + nz((n, 3), noise["gyroscope"])
@@ -297,13 +367,13 @@ def generate(cfg: dict, root_seed: int, *, log=None, experiment: str = "ch5/pupp
     solver = dict(sweep_order=str(mcfg.get("sweep_order", "jacobi")),
                   relaxation=float(mcfg.get("relaxation", 0.3)),
                   momentum=float(mcfg.get("momentum", 0.85)))
-    model, state0 = _puppy().puppy(dt=mcfg["dt"], solver_iterations=mcfg["solver_iterations"],
-                                   skin_ratio=mcfg["skin_ratio"], **solver)
+    model, state0 = puppy_model(cfg)
     steps = int(round(1.0 / rate / float(mcfg["dt"])))
     if abs(steps * float(mcfg["dt"]) * rate - 1.0) > 1e-9:
         raise ValueError(f"ch5.model.dt={mcfg['dt']} does not divide the sample period "
                          f"1/{rate} s")
-    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"], *solver.values())
+    key = (mcfg["dt"], mcfg["solver_iterations"], mcfg["skin_ratio"], *solver.values(),
+           json.dumps(cfg["terrains"]["F"], sort_keys=True))
     _MODELS[key] = model
     table = trial_table(cfg, seeding.rng(root_seed, experiment + "/trials"))
     n_dev = min(jax.device_count(), int(rec["batch"]))

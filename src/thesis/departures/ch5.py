@@ -33,12 +33,15 @@ DEPARTURES: tuple[Departure, ...] = (
                "spring knees, paw force sensors, IMU) but no dimension, mass, spring rate or "
                "servo parameter.",
         ours="1.5 kg; 0.22 x 0.11 x 0.05 m trunk, hips 0.18 m apart; 0.065 m femur and tibia "
-             "with the knee pointing backward; 3 N m/rad knee spring with 0.1 rad preload; "
+             "with the knee pointing backward; 3 N m/rad knee spring without preload (rest "
+             "angle at the build pose, so the knee flexes under the standing load); "
              "hobby-servo hips (1 N m, 6 rad/s, gain 50 1/s); 12 mm paws "
              "(thesis.physics.models.puppy docstring gives the reasons).",
         why="No public source (docs/sources.md#puppy-body); chosen for a small servo robot, and "
             "so that the "
-            "model stands and walks (a forward knee or a softer spring turned it over).",
+            "model stands and walks (a forward knee or a softer spring turned it over); a "
+            "preload above the ~0.08 N m standing load would hold the knees on their stops, "
+            "where the Puppy II's passive knees flex in stance (§5.3.1).",
         config=("ch5.model",),
     ),
     Departure(
@@ -57,20 +60,47 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch5.terrain_materials", kind="choice", results=_ALL,
         thesis="§5.3.1 names the terrains (blue foil, Styrofoam, linoleum, cardboard, rubber) "
                "and nothing of their physics.",
-        ours="Each terrain is a floor material (friction, restitution, contact softness and "
-             "damping; profile ch5.terrains with reasons) fixed before any classifier ran; "
-             "every parameter is jittered by +-10 % per trial; no roughness.",
-        why="In simulation the terrains' separability is entirely this choice: it was made "
-            "from physical reasoning and is never tuned to a score.",
+        ours="Each terrain is a floor material: the paw-floor contact a spring-damper in "
+             "physical units from docs/sources.md#ch5-terrain-contact (one paw's stiffness "
+             "under m g / 4: F 14.66 kN/m, the silicone paw alone, geometric middle of "
+             "8.6-25; R 13.51, rubber mat in series with the paw, of 7.6-24; S 4.12, the "
+             "elastic secant of Styrofoam's plastic crush, of 2.7-6.3; L and C 14.66, the "
+             "paw alone, their own modulus not found; damping ratio tan(delta) / 2 on the "
+             "paw's share m / 4 of the mass: paw 0.087, rubber 0.079, S 1.0), restitution 0, "
+             "and the chosen friction coefficients (F 0.35, S 0.65, L 0.5, C 0.45, R 0.9); "
+             "fixed before any classifier ran; every parameter is jittered by +-10 % per "
+             "trial; no roughness (thesis.ch5.recordings gives the derivations).",
+        why="The dataset's floors are not described (docs/sources.md#ch5-terrain-contact: "
+            "each is its common form, chosen). Where a range is sourced and nothing selects "
+            "within it, its geometric middle; where only the paw's bound exists (L, C), "
+            "the paw alone, since a floor compliance without a source would be invented. "
+            "Styrofoam crushes plastically, which the engine's elastic contact cannot do: "
+            "its secant stiffness is the declared approximation, critically damped (its "
+            "crush returns no energy). Restitution 0: the sourced damping is the contact's "
+            "energy loss (the engine's restitution is a velocity target that would replace "
+            "the spring at each touchdown). No friction of a rubber or silicone skin on "
+            "these floors was found, so the friction stays chosen. At the 5-ms step the "
+            "contact is an implicit spring (stable at any stiffness), and the touchdown "
+            "force rise (6-10 ms by the sources) spans one or two steps: unresolved "
+            "(thesis bench puppy-contact). In simulation the terrains' separability is "
+            "entirely this choice; it is never tuned to a score.",
         config=("ch5.terrains", "ch5.jitter"),
     ),
     Departure(
         id="ch5.sensor_noise", kind="choice", results=_ALL,
-        thesis="§5.2.1: 'The sensor signals are very noisy', without a figure.",
-        ours="White Gaussian noise per sensor (profile ch5.noise: 0.02 rad, 0.3 N, "
-             "0.3 m/s^2, 0.05 rad/s, 3 % of the field, 5 mm, 0.03 rad, 2 cm).",
-        why="Typical of the sensor types; fixed with the terrains, before any classifier ran.",
-        config=("ch5.noise",),
+        thesis="§5.2.1: 'The sensor signals are very noisy', without a figure; §5.3.1: a "
+               "tactile sensor on each paw, sampled at 50 Hz, type not given.",
+        ours="White Gaussian noise per sensor (profile ch5.noise: 0.02 rad, 0.3 m/s^2, "
+             "0.05 rad/s, 3 % of the field, 5 mm, 0.03 rad, 2 cm). The paw sensors are "
+             "force-sensing resistors (ch5.touch, docs/sources.md#ch5-touch, Interlink FSR "
+             "402): a point sample of the paw's force every 20 ms, 0 below 0.1 N, clipped "
+             "at 10 N, a per-sample gain error of sd 2 % (the sheet's +-2 % repeatability "
+             "read as one standard deviation) and +10 % while the force falls (hysteresis); "
+             "no further noise (ch5.noise.touch 0, in place of the earlier chosen 0.3 N).",
+        why="Typical of the sensor types; the paw sensor's type is not published, the FSR is "
+            "the low-cost kind of the time with a data sheet; fixed with the terrains, before "
+            "any classifier ran.",
+        config=("ch5.noise", "ch5.touch"),
     ),
     Departure(
         id="ch5.gait_parameters", kind="choice", results=_ALL,

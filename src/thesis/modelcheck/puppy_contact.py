@@ -2,7 +2,7 @@
 contact on each chapter-5 terrain, measured on the current model and held against the
 contact values gathered from material sources (docs/sources.md#ch5-terrain-contact).
 
-The robot is :func:`thesis.physics.models.puppy.puppy` at ``ch5.model``'s settings, on a
+The robot is :func:`thesis.ch5.recordings.puppy_model` (``ch5.model``'s settings), on a
 flat floor of each terrain of ``ch5.terrains`` at its nominal values (no per-trial
 jitter), the floor material set as the chapter's recordings set it
 (:func:`thesis.ch5.recordings.terrain_model`). All runs of all terrains are one vmapped
@@ -50,7 +50,7 @@ import numpy as np
 import xarray as xr
 
 from thesis import seeding
-from thesis.ch5.recordings import terrain_model
+from thesis.ch5.recordings import puppy_model, terrain_model
 from thesis.physics import rollout
 
 __all__ = ["SOURCED", "simulate", "touchdown", "check", "puppy_contact"]
@@ -60,7 +60,7 @@ CITATION = "docs/sources.md#ch5-terrain-contact"
 #: Rise of a quarter sine from 10 % to 90 % of its peak, as a fraction of the time to the
 #: peak: (asin 0.9 - asin 0.1) / (pi / 2).
 QUARTER_SINE_10_90 = (math.asin(0.9) - math.asin(0.1)) / (math.pi / 2)
-_MATERIAL_KEYS = ("friction", "restitution", "stiffness_hz", "damping_ratio")
+_MATERIAL_KEYS = ("friction", "restitution", "stiffness", "damping_ratio")
 _NAN = float("nan")
 
 #: Per terrain, the sourced (low, high) of one paw's contact stiffness [kN/m] and static
@@ -147,11 +147,7 @@ def simulate(ch5: dict, materials: np.ndarray, lifts: np.ndarray, commands: np.n
     """
     pup = importlib.import_module("thesis.physics.models.puppy")
     mc = ch5["model"]
-    model, state0 = pup.puppy(dt=float(mc["dt"]), solver_iterations=int(mc["solver_iterations"]),
-                              skin_ratio=float(mc["skin_ratio"]),
-                              sweep_order=str(mc.get("sweep_order", "jacobi")),
-                              relaxation=float(mc.get("relaxation", 0.3)),
-                              momentum=float(mc.get("momentum", 0.85)))
+    model, state0 = puppy_model(ch5)
     dt = float(mc["dt"])
     rate = float(ch5["recordings"]["sample_rate"])
     steps = int(round(1.0 / rate / dt))

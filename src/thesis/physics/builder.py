@@ -393,7 +393,8 @@ class Builder:
 
     # ---- contact --------------------------------------------------------------------
     def add_material(self, name, friction, restitution, stiffness_hz, damping_ratio,
-                     torsional=0.0, friction_forward=None, friction_backward=None):
+                     torsional=0.0, friction_forward=None, friction_backward=None,
+                     stiffness=None, damping=0.0):
         """Contact material: Coulomb friction, restitution, softness (natural frequency
         [Hz], damping ratio) and torsional friction length [m] (torque bound =
         torsional * normal force). Replaces a material of the same name.
@@ -402,12 +403,26 @@ class Builder:
         Coulomb coefficients of a *directional* contact sphere (``add_contact_sphere(...,
         direction=...)``) sliding forward / backward along its direction; ``friction``
         then bounds the lateral sliding. Contacts of spheres without a direction use
-        ``friction`` in every direction."""
+        ``friction`` in every direction.
+
+        ``stiffness`` [N/m] and ``damping`` [N s/m] (opt-in) make the contact an implicit
+        spring-damper in physical units, independent of the bodies' masses (a material
+        stiffness measured or derived from a modulus): its normal row then has
+        ``erp = h k / (h k + c)`` and ``cfm = 1 / (h (h k + c))`` on the impulse
+        (:mod:`thesis.physics.constraint`), and ``stiffness_hz`` / ``damping_ratio`` are
+        unused. Static, a contact pressed by F sinks F / k beyond the slop. Without
+        ``stiffness`` (or with 0) the softness is relative to the contact's effective mass
+        (natural frequency, damping ratio) as before."""
         fwd = friction if friction_forward is None else friction_forward
         bwd = friction if friction_backward is None else friction_backward
         m = dict(name=name, friction=friction, restitution=restitution, hz=stiffness_hz,
                  zeta=damping_ratio, torsional=torsional, friction_forward=fwd,
-                 friction_backward=bwd)
+                 friction_backward=bwd,
+                 stiffness=0.0 if stiffness is None else float(stiffness),
+                 damping=float(damping))
+        if m["stiffness"] < 0 or m["damping"] < 0 or (m["stiffness"] == 0 and m["damping"] > 0):
+            raise ValueError(f"material {name!r}: stiffness {stiffness} N/m and damping "
+                             f"{damping} N s/m must be >= 0, damping only with a stiffness")
         names = [x["name"] for x in self.materials]
         if name in names:
             self.materials[names.index(name)] = m

@@ -16,7 +16,10 @@ frequency f [Hz] and damping ratio zeta behaves as an implicit spring-damper of 
 The original wrote ``CFM = 1/(c + dt k)`` and applied it to impulses, which differs by a
 factor dt (a unit slip, kept out). Springs with explicit k [N/m], c [N s/m] use the same
 expressions without m_eff (``cfm_abs``), i.e. they are integrated implicitly and stay
-stable for any stiffness.
+stable for any stiffness. A contact material with a ``stiffness`` [N/m] (and ``damping``
+[N s/m]; ``Builder.add_material``) is such a spring too: its normal row takes that
+``erp`` and ``cfm_abs`` instead of the relative softness (opt-in: a model without one
+assembles its rows exactly as before, ``Model.absolute_contact``).
 
 Servos (docs/sources.md#tpx-servo): a hard velocity row along the joint coordinate with target rate
 ``-clip(gain * (q - q_cmd), +-v_max)`` (zero inside the dead band) for position servos,
@@ -175,6 +178,14 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         ba, bb = contacts["body_a"], contacts["body_b"]
         mat = m.contact_material
         erp, gamma = softness(m.material_hz[mat], m.material_zeta[mat], dt)
+        cfm_n = 0.0
+        if m.absolute_contact:  # materials in physical units (N/m, N s/m) where k > 0
+            k_n = m.material_stiffness[mat]
+            is_abs = k_n > 0
+            erp_abs, cfm_abs = _spring(jnp.where(is_abs, k_n, 1.0), m.material_damping[mat], dt)
+            erp = jnp.where(is_abs, erp_abs, erp)
+            gamma = jnp.where(is_abs, 0.0, gamma)
+            cfm_n = jnp.where(is_abs, cfm_abs, 0.0)
         ja_n = jnp.concatenate([-n, -jnp.cross(ra, n)], -1)
         jb_n = jnp.concatenate([n, jnp.cross(rb, n)], -1)
         vn = jnp.sum(ja_n * vel6[ba], -1) + jnp.sum(jb_n * vel6[bb], -1)
@@ -183,7 +194,9 @@ def scalar_rows(m: Model, dofs, contacts, spring_geo, vel6, action, tether_geo=N
         pen = erp / dt * jnp.minimum(dist + m.contact_slop, 0.0)
         bounce = m.material_restitution[mat] * jnp.minimum(vn + m.restitution_threshold, 0.0)
         # a bouncing contact is a hard velocity target (softness would eat the bounce)
-        add(ja_n, jb_n, jnp.minimum(pen, bounce), jnp.where(bounce < pen, 0.0, gamma), 0.0,
+        hard = bounce < pen
+        add(ja_n, jb_n, jnp.minimum(pen, bounce), jnp.where(hard, 0.0, gamma),
+            0.0 if not m.absolute_contact else jnp.where(hard, 0.0, cfm_n),
             0.0, jnp.where(active, INF, 0.0), 0.0, ba, bb)
         if m.directional:  # t1: -mu_forward <= lambda / lambda_n <= mu_backward
             mu = m.material_friction[mat]

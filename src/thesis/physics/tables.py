@@ -74,6 +74,7 @@ def build_model(b, dtype):
         pairs_is.append(True)
         pairs_m.append(m)
     torsional = any(b.materials[m]["torsional"] > 0 for m in pairs_m)
+    absolute = any(m["stiffness"] > 0 for m in b.materials)
     # directional friction: the pair's directional sphere and the side it is on (+1 body b,
     # -1 body a, 0 none); planes are body a, so a sphere against a plane is body b
     directed = [s["direction"] is not None for s in b.cspheres]
@@ -143,6 +144,7 @@ def build_model(b, dtype):
         field_grid=field["grid"], field_material=field["material"],
         field_dir_sign=field["dir_sign"],
         torsional=bool(torsional), toi_correction=bool(b.toi_correction),
+        absolute_contact=bool(absolute),
         material_names=tuple(m["name"] for m in b.materials),
         plane_names=tuple(p["name"] for p in b.planes),
         geom_type=ints([int(g["type"]) for g in G]),
@@ -197,6 +199,8 @@ def build_model(b, dtype):
         material_torsional=f("torsional", b.materials, (len(b.materials),)),
         material_friction_forward=f("friction_forward", b.materials, (len(b.materials),)),
         material_friction_backward=f("friction_backward", b.materials, (len(b.materials),)),
+        material_stiffness=f("stiffness", b.materials, (len(b.materials),)),
+        material_damping=f("damping", b.materials, (len(b.materials),)),
         geom_size=f("size", G, (len(G), 3)), geom_pos=f("pos", G, (len(G), 3)),
         geom_rot=f("rot", G, (len(G), 3, 3)), geom_color=f("color", G, (len(G), 3)),
         textures=jnp.asarray(textures, dtype),

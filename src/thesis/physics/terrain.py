@@ -83,6 +83,8 @@ _MATERIAL_LEAVES = {
     "torsional": "material_torsional",
     "friction_forward": "material_friction_forward",
     "friction_backward": "material_friction_backward",
+    "stiffness": "material_stiffness",
+    "damping": "material_damping",
 }
 
 
@@ -94,10 +96,13 @@ def set_material(model: Model, name: str, **values) -> Model:
     (contact softness, see ``constraint.py``), ``torsional`` [m] (torsional friction
     length), ``friction_forward`` / ``friction_backward`` (directional contact spheres,
     ``Builder.add_contact_sphere(..., direction=...)``; ``friction`` is then their lateral
-    bound, and setting ``friction`` alone leaves these two unchanged). Raises
+    bound, and setting ``friction`` alone leaves these two unchanged), ``stiffness`` [N/m]
+    and ``damping`` [N s/m] (a contact in physical units; the model must have been built
+    with one, ``Model.absolute_contact``, since that selects the rows' program). Raises
     ``KeyError`` for an unknown material, ``TypeError`` for an unknown keyword, and
-    ``ValueError`` for a torsional length on a model built without torsional rows (which
-    rows exist is topology, fixed at build time).
+    ``ValueError`` for a torsional length on a model built without torsional rows, or a
+    stiffness on one built without a physical-unit contact (which rows exist and how they
+    are assembled is fixed at build time).
     """
     if name not in model.material_names:
         raise KeyError(f"model {model.name!r} has no material {name!r}; "
@@ -109,6 +114,9 @@ def set_material(model: Model, name: str, **values) -> Model:
     if values.get("torsional") is not None and not model.torsional:
         raise ValueError(f"model {model.name!r} was built without torsional friction rows; "
                          "give a material a torsional length before build()")
+    if values.get("stiffness") is not None and not model.absolute_contact:
+        raise ValueError(f"model {model.name!r} was built without a contact in physical "
+                         "units; give a material a stiffness [N/m] before build()")
     i = model.material_names.index(name)
     changes = {}
     for key, value in values.items():

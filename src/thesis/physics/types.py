@@ -174,6 +174,9 @@ class Model(_Replace):
             sphere has a friction direction. A field adds ``n_query * field_k`` contacts
             after the listed pairs (``n_field_pair``; ``n_contact`` counts both).
         torsional: whether contacts carry a torsional-friction row.
+        absolute_contact: whether some material's contact is a spring-damper in physical
+            units (``material_stiffness`` > 0; ``Builder.add_material(..., stiffness=)``).
+            Without one the contact rows are assembled exactly as before the option existed.
         toi_correction: whether a body's position is corrected for the time of impact of
             its sphere-plane contacts (``step.toi_correction``; off by default).
         material_names, plane_names.
@@ -224,7 +227,9 @@ class Model(_Replace):
         material_friction, material_restitution, material_hz, material_zeta,
         material_torsional [m], material_friction_forward, material_friction_backward
         (n_material,) (directional spheres sliding forward / backward; see
-        ``Builder.add_contact_sphere``).
+        ``Builder.add_contact_sphere``); material_stiffness [N/m], material_damping
+        [N s/m] (n_material,): a contact in physical units (0: the relative softness
+        ``material_hz``, ``material_zeta`` applies).
         geom_size (G, 3), geom_pos (G, 3), geom_rot (G, 3, 3), geom_color (G, 3),
         textures (T, h, w, 3).
         camera_pos (C, 3), camera_rot (C, 3, 3), camera_focal (C,) [m], camera_sensor (C, 2) [m].
@@ -239,7 +244,8 @@ class Model(_Replace):
         "csphere_body", "pair_sphere", "pair_other", "pair_is_sphere", "pair_material",
         "pair_dir_sphere", "pair_dir_sign",
         "field_name", "field_query", "field_k", "field_grid", "field_material",
-        "field_dir_sign", "torsional", "toi_correction", "material_names", "plane_names",
+        "field_dir_sign", "torsional", "toi_correction", "absolute_contact", "material_names",
+        "plane_names",
         "geom_type", "geom_body", "geom_texture",
         "camera_names", "camera_body", "camera_pixels", "batched", "sweep_order",
         "contact_relaxation", "row_relaxation", "momentum", "momentum_restart",
@@ -284,6 +290,7 @@ class Model(_Replace):
     field_dir_sign: np.ndarray
     torsional: bool
     toi_correction: bool
+    absolute_contact: bool
     material_names: tuple
     plane_names: tuple
     geom_type: np.ndarray
@@ -356,6 +363,8 @@ class Model(_Replace):
     material_torsional: Any
     material_friction_forward: Any
     material_friction_backward: Any
+    material_stiffness: Any
+    material_damping: Any
     geom_size: Any
     geom_pos: Any
     geom_rot: Any

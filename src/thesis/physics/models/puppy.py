@@ -30,14 +30,17 @@ fitted to a result of the thesis.
   and 60 deg / 0.15-0.2 s); commands within +-0.8 rad of the build pose. The fastest
   gait of Tab. 5.1 (1.72 Hz, amplitude 0.28 rad) needs ~3 rad/s.
 * **Passive knee**: a hinge between femur and tibia with a torsion spring (the
-  thesis's "spring attached between the upper and lower limb") of 3.0 N m/rad with a
-  preload of 0.1 rad towards extension, damping 0.005 N m s/rad, and limits: no
-  extension beyond the build pose (0 rad: the spring holds the knee against that stop)
-  and at most 1.2 rad of flexion. Standing loads a knee with ~0.08 N m, below the
-  0.3 N m preload, so the knee moves only under the larger loads of the stance and the
-  impacts of a gait: the thesis's "passively moveable" knees. With 0.6 N m/rad the
-  front knees folded by 0.45 rad when standing and the robot pitched over in a gait;
-  with 2.0 it turned over in slow (0.25 Hz) gaits.
+  thesis's "spring attached between the upper and lower limb") of 3.0 N m/rad, rest
+  angle at the build pose (no preload), damping 0.005 N m s/rad, and limits: no
+  extension beyond the build pose (0 rad) and at most 1.2 rad of flexion. The rate and
+  the preload are chosen (no source gives them, docs/sources.md#puppy-body): the preload
+  must not exceed the standing load, ~0.08 N m per knee, or the knee rests on its stop
+  and never flexes in stance, where the Puppy II's passive knees flex under the robot's
+  weight (§5.3.1 "passively moveable"); with none, the knee takes ~0.08 / 3 = 0.03 rad
+  standing and more under a gait's stance loads. The rate is kept from the first model:
+  with 0.6 N m/rad the front knees folded by 0.45 rad when standing and the robot
+  pitched over in a gait; with 2.0 it turned over in slow (0.25 Hz) gaits (both probes
+  with a 0.1 rad preload, which held the knees on their stops when standing).
   Knee angle: positive = flexion.
 * **Paws**: a 12 mm contact sphere at the tibia's distal end, carrying the paw's force
   sensor. The skin's "asymmetrical friction" is the engine's directional friction
@@ -63,9 +66,14 @@ fitted to a result of the thesis.
   beyond tolerance, but the trial-to-trial spread of a few cells (the turn on Styrofoam
   at 1.25-1.52 Hz, the random gaits) leaves their intervals wider than 10 %.
 * **Compliance** (physical, independent of dt; :mod:`thesis.physics.builder`): joint and
-  limit rows 200 Hz, contacts 50 Hz, critically damped (``JOINT_HZ``, ``CONTACT_HZ``
-  below): 1 / dt and 0.25 / dt at the 5-ms step (docs/sources.md#puppy-body); being
-  physical, a smaller step refines the same robot.
+  limit rows 200 Hz, critically damped (``JOINT_HZ``): 1 / dt at the 5-ms step
+  (docs/sources.md#puppy-body). The floor contact is either the engine's relative
+  softness, 50 Hz critically damped (``CONTACT_HZ``, 0.25 / dt at 5 ms, with 1 mm of
+  contact slop), or, with ``contact_stiffness`` given, a spring-damper in physical units
+  [N/m, N s/m] (``Builder.add_material(..., stiffness=)``) with no slop: the spring is
+  then the paw-floor contact's whole compliance. Chapter 5's terrains use the latter
+  (:func:`thesis.ch5.recordings.terrain_model`, values from docs/sources.md#ch5-terrain-contact);
+  being physical, a smaller step refines the same robot.
 
 Sensors the chapter records (§5.3.1) map onto the engine's: hip and knee
 ``joint_angle`` (potentiometers), paw ``contact_force``, trunk ``imu_acc`` and
@@ -134,9 +142,10 @@ CONTACT_HZ = 50.0
 
 def puppy(*, dt=0.005, solver_iterations=120, relaxation=0.3, servo_gain=50.0,
           hip_torque=1.0, hip_velocity=6.0, hip_range=0.8, knee_spring=3.0,
-          knee_preload=0.1, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
+          knee_preload=0.0, knee_damping=0.005, knee_max_flexion=1.2, friction=0.6,
           restitution=0.0, skin_ratio=0.5, joint_hz=JOINT_HZ, contact_hz=CONTACT_HZ,
-          sweep_order="jacobi", momentum=0.85, dtype=jnp.float32):
+          contact_stiffness=None, contact_damping=0.0, sweep_order="jacobi", momentum=0.85,
+          dtype=jnp.float32):
     """Build Puppy II standing on a flat floor (plane ``"floor"``, material
     ``"default"``); returns ``(Model, State)``.
 
@@ -155,18 +164,24 @@ def puppy(*, dt=0.005, solver_iterations=120, relaxation=0.3, servo_gain=50.0,
             the floor material's ``friction_forward`` is ``skin_ratio * friction``.
         joint_hz [Hz]: softness of the joint and limit rows; contact_hz [Hz]: of the
             floor contacts (critically damped; physical, independent of dt).
+        contact_stiffness [N/m], contact_damping [N s/m]: the floor contact as a
+            spring-damper in physical units, without contact slop (None: the relative
+            softness ``contact_hz`` with 1 mm of slop; module docstring, "Compliance").
     Hip commands (the servo actions) are angles relative to the build pose [rad],
     positive = femur swung forward.
     """
+    physical = contact_stiffness is not None
     b = Builder("puppy", dt=dt, solver_iterations=solver_iterations, relaxation=relaxation,
-                friction=friction, restitution=restitution, contact_slop=0.001,
+                friction=friction, restitution=restitution,
+                contact_slop=0.0 if physical else 0.001,
                 joint_hz=joint_hz, limit_hz=joint_hz, contact_hz=contact_hz,
                 sweep_order=sweep_order, momentum=momentum)
     if not 0.0 < float(skin_ratio) <= 1.0:
         raise ValueError(f"puppy: skin_ratio must lie in (0, 1], got {skin_ratio}")
     default = b.materials[0]
     b.add_material("default", friction, restitution, default["hz"], default["zeta"],
-                   friction_forward=float(skin_ratio) * friction, friction_backward=friction)
+                   friction_forward=float(skin_ratio) * friction, friction_backward=friction,
+                   stiffness=contact_stiffness, damping=contact_damping if physical else 0.0)
     b.add_plane("floor", (0, 0, 1), 0.0, color=(0.35, 0.35, 0.4))
     z_hip = leg_height() + PAW_RADIUS
     z_trunk = z_hip - HIPS[0][2]
