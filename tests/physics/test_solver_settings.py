@@ -41,3 +41,13 @@ def test_a_bad_setting_is_refused_by_the_profile_schema(bad):
     with pytest.raises(ConfigError) as e:
         load_config("smoke", overrides={f"physics.bench.solver.{k}": v for k, v in bad.items()})
     assert "physics.bench.solver" in str(e.value)
+
+
+def test_the_benchmark_default_keeps_tab_7_1s_model():
+    """physics.bench.solver at its defaults (all null) leaves the quadruped as built."""
+    from thesis.config import load_config
+
+    m, _ = quadruped()
+    cfg = load_config("default")["physics"]["bench"]["solver"]
+    assert set(cfg) >= {"sweep_order", "row_relaxation"} and all(v is None for v in cfg.values())
+    assert solver_fields({k: v for k, v in cfg.items() if v is not None}) == {}
