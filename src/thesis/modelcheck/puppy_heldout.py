@@ -307,7 +307,8 @@ def puppy_heldout(ctx) -> xr.Dataset:
                                "majority share")),
             "difference": (("seed", "heldout"), diff, dict(pts, long_name="accuracy minus "
                            "majority share")),
-            "difference_mean": (("heldout",), [d["mean"] for d in per_gait], pts),
+            "difference_mean": (("heldout",), [d["mean"] for d in per_gait],
+                                dict(pts, long_name="mean difference over seeds")),
             "difference_low": (("heldout",), [d["low"] for d in per_gait],
                                dict(pts, long_name=f"lower bound of the {conf:.0%} t interval")),
             "difference_high": (("heldout",), [d["high"] for d in per_gait],
@@ -317,20 +318,30 @@ def puppy_heldout(ctx) -> xr.Dataset:
                             "(reported, not deciding)")),
             "lda_accuracy": (("heldout",), lda, dict(pct, long_name="linear discriminant "
                              "on per-part mean and std, held-out gait (diagnostic)")),
-            "test_steps": (("heldout",), a["n"], dict(units="1")),
-            "pooled_accuracy": (("seed",), pooled_acc, pct),
-            "pooled_majority_share": ((), pooled_maj, pct),
-            "pooled_difference_mean": ((), pooled["mean"], pts),
-            "pooled_difference_low": ((), pooled["low"], pts),
-            "pooled_difference_high": ((), pooled["high"], pts),
+            "test_steps": (("heldout",), a["n"], dict(units="1", long_name="time steps of the "
+                           "held-out set")),
+            "pooled_accuracy": (("seed",), pooled_acc, dict(pct, long_name="reservoir's accuracy "
+                                "pooled over the held-out gaits")),
+            "pooled_majority_share": ((), pooled_maj, dict(pct, long_name="each fold's majority "
+                                      "steps over all test steps")),
+            "pooled_difference_mean": ((), pooled["mean"], dict(pts, long_name="pooled difference, "
+                                       "mean over seeds (deciding)")),
+            "pooled_difference_low": ((), pooled["low"], dict(pts, long_name="its lower t bound")),
+            "pooled_difference_high": ((), pooled["high"], dict(pts, long_name="its upper t bound")),
             "pooled_passed": ((), pooled["passed"], dict(units="1", long_name="Test A's "
                               "verdict (deciding)")),
-            "pooled_lda_accuracy": ((), pooled_lda, pct),
+            "pooled_lda_accuracy": ((), pooled_lda, dict(pct, long_name="linear discriminant "
+                                    "pooled over the held-out gaits (diagnostic)")),
             "cell_accuracy": (("seed", "cell"), cell_acc, dict(pct, long_name="reservoir, "
                               "second half of each trial after training on the first halves")),
-            "cell_majority_share": (("cell",), 100.0 * b["majority"] / b["n"], pct),
-            "cell_lda_accuracy": (("cell",), 100.0 * b["lda"] / b["n"], pct),
-            "cell_trials": (("cell",), [len(ids) for ids in b["cells"]], dict(units="1")),
+            "cell_majority_share": (("cell",), 100.0 * b["majority"] / b["n"],
+                                    dict(pct, long_name="majority share of the cell's test "
+                                         "halves")),
+            "cell_lda_accuracy": (("cell",), 100.0 * b["lda"] / b["n"],
+                                  dict(pct, long_name="linear discriminant within the "
+                                       "cell (diagnostic)")),
+            "cell_trials": (("cell",), [len(ids) for ids in b["cells"]],
+                            dict(units="1", long_name="trials in the cell")),
             "within_accuracy": (("seed",), within, dict(pct, long_name="reservoir within "
                                 "cells, pooled over cells")),
             "within_passed": ((), b_pass, dict(units="1", long_name="Test B's verdict")),
