@@ -80,3 +80,33 @@ def test_puppy_heldout_is_registered_with_its_config():
     assert cfg["terrains"] == ["F", "S", "L"] and len(cfg["seeds"]) == 5
     assert (cfg["min_difference"], cfg["min_lower_bound"], cfg["min_within_cell"]) == (
         15.0, 5.0, 80.0)
+
+
+def test_report_table_reads_the_verdicts_from_the_dataset():
+    import xarray as xr
+
+    from thesis.report import puppy_heldout as R
+    from thesis.report.model import NOT_RUN
+
+    assert R.table({}).rows == [[NOT_RUN] * len(R.COLUMNS)]
+    g, s = ("bound_right", "random"), (0, 1)
+    ds = xr.Dataset(
+        dict(accuracy=(("seed", "heldout"), [[60.0, 40.0], [62.0, 38.0]]),
+             majority_share=(("heldout",), [40.0, 35.0]),
+             difference_mean=(("heldout",), [21.0, 4.0]),
+             difference_low=(("heldout",), [8.0, -20.0]),
+             difference_high=(("heldout",), [34.0, 28.0]),
+             passed=(("heldout",), [True, False]), lda_accuracy=(("heldout",), [70.0, 30.0]),
+             test_steps=(("heldout",), [300, 100]),
+             pooled_accuracy=(("seed",), [55.0, 56.0]), pooled_majority_share=((), 38.75),
+             pooled_difference_mean=((), 16.75), pooled_difference_low=((), 10.0),
+             pooled_difference_high=((), 23.0), pooled_passed=((), True),
+             pooled_lda_accuracy=((), 60.0),
+             cell_accuracy=(("seed", "cell"), [[90.0, 70.0], [92.0, 72.0]])),
+        coords=dict(seed=list(s), heldout=list(g), cell=["a", "b"]),
+        attrs=dict(terrains="FSL", selection="touch", nodes=20, params="{}",
+                   test_a="Test A", test_b="Test B"))
+    t = R.table({R.KEY: ds})
+    assert [r[0] for r in t.rows] == ["bound_right", "random", "pooled (decides)"]
+    assert [r[5] for r in t.rows] == ["pass", "fail", "PASS"]
+    assert t.rows[0][2] == "61.0" and t.rows[2][1] == "400" and "71.0-91.0 %" in t.note
