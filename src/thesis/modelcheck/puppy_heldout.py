@@ -327,7 +327,8 @@ def puppy_heldout(ctx) -> xr.Dataset:
             "pooled_difference_mean": ((), pooled["mean"], dict(pts, long_name="pooled difference, "
                                        "mean over seeds (deciding)")),
             "pooled_difference_low": ((), pooled["low"], dict(pts, long_name="its lower t bound")),
-            "pooled_difference_high": ((), pooled["high"], dict(pts, long_name="its upper t bound")),
+            "pooled_difference_high": ((), pooled["high"],
+                                       dict(pts, long_name="its upper t bound")),
             "pooled_passed": ((), pooled["passed"], dict(units="1", long_name="Test A's "
                               "verdict (deciding)")),
             "pooled_lda_accuracy": ((), pooled_lda, dict(pct, long_name="linear discriminant "
