@@ -85,6 +85,7 @@ EXPERIMENTS: dict[str, str] = {
     "model/calibration": "thesis.modelcheck.calibration:calibration",
     "model/puppy_convergence": "thesis.modelcheck.puppy_convergence:convergence",
     "model/puppy_contact": "thesis.modelcheck.puppy_contact:puppy_contact",
+    "model/puppy_heldout": "thesis.modelcheck.puppy_heldout:puppy_heldout",
 }
 
 #: ``thesis validate <robot>`` -> registry keys it runs (the Oncilla's validation,
@@ -105,6 +106,7 @@ BENCHMARKS: dict[str, str] = {
     "oncilla": "model/oncilla",
     "solver": "model/solver",
     "puppy-contact": "model/puppy_contact",
+    "puppy-heldout": "model/puppy_heldout",
 }
 
 #: Measurements behind the configuration's sizes, made outside the default target
@@ -192,6 +194,9 @@ READS: dict[str, tuple[str, ...]] = {
     "model/puppy_convergence": ("physics.puppy_convergence", "ch5"),
     "model/puppy_contact": ("physics.puppy_contact", "ch5.model", "ch5.terrains", "ch5.gaits",
                             "ch5.recordings.sample_rate", "ch5.recordings.fallen_up"),
+    "model/puppy_heldout": ("physics.puppy_heldout", "ch5.model", "ch5.recordings", "ch5.gaits",
+                            "ch5.terrains", "ch5.jitter", "ch5.noise", "ch5.touch",
+                            "ch5.protocol.part_target", "ch5.methods.nodes", "ch5.search"),
     "model/calibration": ("physics.oncilla_calibration", "physics.oncilla_validation",
                           "ch4.model", "ch4.tether", "ch4.protocol.settle",
                           "ch4.protocol.fall_height"),

@@ -292,6 +292,8 @@ def optional_runs(results: Mapping[str, xr.Dataset], decided: Mapping,
          f"thesis bench oncilla --profile {profile}", have("model/oncilla")),
         ("the Puppy II's paw contact against the sourced values (section 'model')",
          f"thesis bench puppy-contact --profile {profile}", have("model/puppy_contact")),
+        ("the Puppy II's terrains across gaits, one gait held out (section 'model')",
+         f"thesis bench puppy-heldout --profile {profile}", have("model/puppy_heldout")),
     ]
 
 

@@ -3,7 +3,8 @@
 dataset, written with ``--output results/<profile>/model/oncilla_<label>.nc``, sits beside
 the first and is shown beside it, by its ``model_label``); the validation tables
 (:mod:`thesis.report.validation`) and the Puppy II's paw contact
-(:mod:`thesis.report.puppy_contact`, ``thesis bench puppy-contact``) follow.
+(:mod:`thesis.report.puppy_contact`, ``thesis bench puppy-contact``) and its terrains
+across gaits (:mod:`thesis.report.puppy_heldout`, ``thesis bench puppy-heldout``) follow.
 
 No thesis numbers: the checks measure the simulated robot, not a claim. Every number is
 read from a dataset; without one the section says "not run".
@@ -114,10 +115,10 @@ def summary_table(results) -> Table:
 
 
 def tables(results) -> list[Table]:
-    from thesis.report import puppy_contact, validation
+    from thesis.report import puppy_contact, puppy_heldout, validation
 
     return [summary_table(results), *validation.tables(results),
-            *puppy_contact.tables(results)]
+            *puppy_contact.tables(results), *puppy_heldout.tables(results)]
 
 
 def figures(results, outdir: Path) -> list[Figure]:
