@@ -211,7 +211,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "(mean >= 15 points, lower 95 % t bound > 5); a linear discriminant on "
              "per-part mean and std beside it; within each gait x frequency cell the first "
              "half of each trial trains and the second half tests (>= 80 %).",
-        why="Issue 82 item 4: a rule fixed before the run tells whether the terrains the "
+        why="A rule fixed before the run tells whether the terrains the "
             "sourced contact physics gives are a property of the floor or of the gait; "
             "the first-half/second-half split exists at one trial per cell.",
         config=("physics.puppy_heldout",),

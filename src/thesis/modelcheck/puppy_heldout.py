@@ -1,6 +1,6 @@
 """``thesis bench puppy-heldout`` (registry ``model/puppy_heldout``): does the terrain in the
-simulated Puppy II recordings carry across gaits, as it did on the real robot (issue 82
-item 4)? Decided in advance and reported whatever it shows; the terrains are never
+simulated Puppy II recordings carry across gaits, as it did on the real robot (§5.3-5.4:
+one reservoir classifies the terrains of every gait)? Decided in advance and reported whatever it shows; the terrains are never
 re-tuned on its outcome.
 
 **Data.** The chapter's recordings at the profile's settings: the trials of
@@ -350,7 +350,7 @@ def puppy_heldout(ctx) -> xr.Dataset:
         coords=dict(seed=seeds, heldout=gait_names, cell=cell_names),
         attrs=dict(title="Puppy II terrains across gaits: held-out-gait and within-cell "
                    "accuracy of the reservoir on the touch channels",
-                   thesis_ref="§5.3-5.4 (Tab. 5.1's terrains); issue 82 item 4",
+                   thesis_ref="§5.3-5.4 (Tab. 5.1's terrains)",
                    terrains="".join(terrains), selection=str(cfg["selection"]),
                    nodes=nodes, params=json.dumps(params), test_a=verdict_a,
                    test_b=verdict_b, seeds=seeds))

@@ -27,7 +27,7 @@ def table(results: dict) -> Table:
     """One row per held-out gait (reported) and the pooled row (deciding)."""
     ds = results.get(KEY)
     title = "Puppy II terrains across gaits: one gait held out, reservoir on touch"
-    ref = "§5.3-5.4; issue 82 item 4"
+    ref = "§5.3-5.4"
     if ds is None:
         return Table(id="puppy_heldout", title=title, thesis_ref=ref, columns=COLUMNS,
                      rows=[[NOT_RUN] * len(COLUMNS)])
