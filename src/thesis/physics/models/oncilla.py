@@ -304,7 +304,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
             contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi",
-            contact_relaxation=None, momentum=0.85, feet="sphere", foot_length=FOOT_LENGTH,
+            contact_relaxation=None, momentum=0.85, row_relaxation=None,
+            momentum_restart=True, feet="sphere", foot_length=FOOT_LENGTH,
             foot_width=FOOT_WIDTH, toe_offset=None, plate_mass=PLATE_MASS):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
@@ -317,8 +318,11 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         relaxation, sweep_order, contact_relaxation: the solver's relaxation factor, the
             order of its updates within a sweep and the contact rows' own relaxation
             factor (None: ``relaxation``) (:mod:`thesis.physics.solver`; module
-            docstring, Solver). momentum: the extrapolation factor of the
-            ``"momentum"`` order (ignored by the others).
+            docstring, Solver). momentum, momentum_restart: the extrapolation factor of
+            the ``"momentum"`` order and whether a sweep whose update turned drops it
+            (ignored by the others). row_relaxation: None (``relaxation``) or the
+            relaxation factor of the scalar rows that are not contacts
+            (:class:`thesis.physics.Builder`).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -375,7 +379,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
                 contact_hz=contact_hz, restitution=restitution, contact_slop=0.001,
                 warm_start=warm_start, sweep_order=sweep_order,
-                contact_relaxation=contact_relaxation, momentum=momentum)
+                contact_relaxation=contact_relaxation, momentum=momentum,
+                momentum_restart=momentum_restart, row_relaxation=row_relaxation)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, float(contact_hz), 1.0)
