@@ -116,9 +116,22 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   twice its sweeps (480). By that rule the chapters keep blocks first. **Warm start**
   (``warm_start``): the engine's 0.85; 1.0 helps the Jacobi order (120 sweeps then give
   about 480's speeds) but was not needed. **Momentum order** (``sweep_order="momentum"``,
-  ``momentum``; opt-in, no chapter uses it): the blocks-first sweeps from extrapolated
-  impulses (:mod:`thesis.physics.solver`, Momentum), at relaxation 0.6 with the contact
-  rows at 0.3; ``thesis bench solver`` measures its sweeps against the direct solution.
+  ``momentum``, ``row_relaxation``, ``momentum_restart``; opt-in, no chapter uses it): the
+  blocks-first sweeps from extrapolated impulses (:mod:`thesis.physics.solver`, Momentum);
+  ``thesis bench solver`` measures its sweeps against the direct solution (config
+  ``physics.solver_bench``: momentum 0.85 with the joint blocks at 0.65, the other rows at
+  0.8, the contacts at 0.5, restart). As the chapters' solver at half their step (dt 1.25
+  ms, 40 sweeps; 0.63 s CPU per simulated robot-second against 0.70 s for 2.5 ms / 120
+  blocks-first sweeps, Tab. 3.1b at 1.5 Hz, 16 robots, median of 3) it is **not converged**
+  by ``model/convergence`` (30 starts per case, the fitted knee spring 2.0): twice the
+  sweeps is inconclusive (no case beyond 10 % with its interval; the half ellipse moves
+  by less than 0.1 %), but under half the step Tab. 3.1b at 0.5 Hz
+  (77 % of its starts fall) walks 0.085 -> 0.032 m/s, beyond 10 % with its Bonferroni
+  interval; the half ellipse moves by at most 0.7 % at every frequency, Tab. 3.1b by 1.2 %
+  at 1.5 Hz (0.325 m/s; interval to 14 %) and 3.3 % at 2.6 Hz (no fall; to 6 %), Tab.
+  4.2's flat optimum by 5.8 % at its own 1.98 Hz (no fall; to 9.4 %), and that optimum's
+  fall rate at 2.6 Hz goes 7 % -> 40 % (the rule pools the fall rate over the cases:
+  +2.5 points). The chapters therefore keep 2.5 ms / 120 blocks-first sweeps.
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
