@@ -4,10 +4,10 @@
 Chapters 3, 4 and 6 (and the model's validation) configure the robot in a ``model``
 section (config/schema.yaml: ``dt``, ``solver_iterations``, ``knee_spring``,
 ``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``,
-``row_relaxation``, the momentum order's ``momentum`` and ``restart``, in ch6 the constraint softness ``joint_hz`` / ``contact_hz``, and in
-ch4 the feet: ``feet`` (``sphere`` or ``plate``) with the plates' ``foot_length`` and
-``foot_width``)
-and chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
+``row_relaxation``, the momentum order's ``momentum`` and ``restart``, in ch6 the
+constraint softness ``joint_hz`` / ``contact_hz``, and in ch4 the feet: ``feet``
+(``sphere`` or ``plate``) with the plates' ``foot_length`` and ``foot_width``) and
+chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
 have keeps :func:`oncilla`'s default.
 """
 
