@@ -125,13 +125,16 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   blocks-first sweeps, Tab. 3.1b at 1.5 Hz, 16 robots, median of 3) it is **not converged**
   by ``model/convergence`` (30 starts per case, the fitted knee spring 2.0): twice the
   sweeps is inconclusive (no case beyond 10 % with its interval; the half ellipse moves
-  by less than 0.1 %), but under half the step Tab. 3.1b at 0.5 Hz
-  (77 % of its starts fall) walks 0.085 -> 0.032 m/s, beyond 10 % with its Bonferroni
-  interval; the half ellipse moves by at most 0.7 % at every frequency, Tab. 3.1b by 1.2 %
-  at 1.5 Hz (0.325 m/s; interval to 14 %) and 3.3 % at 2.6 Hz (no fall; to 6 %), Tab.
-  4.2's flat optimum by 5.8 % at its own 1.98 Hz (no fall; to 9.4 %), and that optimum's
-  fall rate at 2.6 Hz goes 7 % -> 40 % (the rule pools the fall rate over the cases:
-  +2.5 points). The chapters therefore keep 2.5 ms / 120 blocks-first sweeps.
+  by less than 0.1 %), but under half the step Tab. 3.1b at 0.5 Hz (77 % of its starts
+  fall) walks 0.085 -> 0.032 m/s, beyond 10 % with its Bonferroni interval; the half
+  ellipse moves by at most 0.7 % at every frequency, Tab. 3.1b by 1.2 % at 1.5 Hz (0.325
+  m/s; interval to 14 %) and 3.3 % at 2.6 Hz (no fall; to 6 %), Tab. 4.2's flat optimum
+  by 5.8 % at its own 1.98 Hz (no fall; to 9.4 %), and that optimum's fall rate at 2.6 Hz
+  goes 7 % -> 40 % (the rule pools the fall rate over the cases: +2.5 points). At 60
+  sweeps (0.89 s CPU per robot-second) the table is the same (Tab. 3.1b at 0.5 Hz 0.094
+  -> 0.031 m/s under half the step; the flat optimum +5.8 % at 1.98 Hz, 10 % -> 37 %
+  falls at 2.6 Hz): the step, not the sweeps, moves them. The chapters therefore keep 2.5
+  ms / 120 blocks-first sweeps.
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
