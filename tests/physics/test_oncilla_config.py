@@ -6,8 +6,9 @@ callers spelled out by hand, leaf for leaf and bit for bit."""
 import jax
 import numpy as np
 import pytest
+import yaml
 
-from thesis.config import load_config
+from thesis.config import ConfigError, load_config, repo_root
 from thesis.ch6 import sweep as S
 from thesis.gaits import conditions as C
 from thesis.ch3 import experiments as E
@@ -27,6 +28,10 @@ def _by_hand(ch: str, cfg: dict) -> dict:
               contact_relaxation=None if cr is None else float(cr))
     if "momentum" in m:  # the momentum order's extrapolation factor (schema default 0.85)
         kw.update(momentum=float(m["momentum"]))
+    rr = m.get("row_relaxation")
+    kw.update(row_relaxation=None if rr is None else float(rr))
+    if "restart" in m:
+        kw.update(momentum_restart=bool(m["restart"]))
     if ch == "ch6":
         kw.update(joint_hz=float(m["joint_hz"]), contact_hz=float(m["contact_hz"]))
     if ch == "ch4":
@@ -69,3 +74,28 @@ def test_a_changed_key_changes_the_model():
     assert "joint_hz" not in oncilla_kwargs({k: v for k, v in m.items() if k != "joint_hz"})
     assert base["contact_relaxation"] is None
     assert oncilla_kwargs({**m, "contact_relaxation": 0.3})["contact_relaxation"] == 0.3
+    assert base["row_relaxation"] is None
+    got = oncilla_kwargs({**m, "row_relaxation": 0.8, "restart": False})
+    assert got["row_relaxation"] == 0.8 and got["momentum_restart"] is False
+    model, _ = oncilla(**{**got, "sweep_order": "momentum"})
+    assert model.row_relaxation == 0.8 and model.momentum_restart is False
+
+
+@pytest.mark.parametrize("ch", ["ch3", "ch4", "ch6"])
+@pytest.mark.parametrize("key, bad", [("row_relaxation", 1.5), ("row_relaxation", 0.0),
+                                      ("restart", "yes")])
+def test_the_solver_keys_are_validated(ch, key, bad):
+    """Every chapter's solver key is a schema key with its range: a bad value is refused
+    with an error that names it."""
+    with pytest.raises(ConfigError, match=key):
+        load_config("smoke", overrides={ch: {"model": {key: bad}}})
+
+
+@pytest.mark.parametrize("ch, dt", [("ch3", 0.0025), ("ch4", 0.0025), ("ch6", 0.00205)])
+def test_the_smoke_models_pin_their_step_and_rows(ch, dt):
+    """The smoke profile spells its Oncilla's step and row relaxation itself, so a new
+    schema default of the chapters' solver does not move its numbers."""
+    with open(repo_root() / "config" / "smoke.yaml") as f:
+        model = yaml.safe_load(f)[ch]["model"]
+    assert model["dt"] == dt and model["row_relaxation"] is None
+    assert model["sweep_order"] == "jacobi"

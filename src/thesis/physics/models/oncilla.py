@@ -116,9 +116,25 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   twice its sweeps (480). By that rule the chapters keep blocks first. **Warm start**
   (``warm_start``): the engine's 0.85; 1.0 helps the Jacobi order (120 sweeps then give
   about 480's speeds) but was not needed. **Momentum order** (``sweep_order="momentum"``,
-  ``momentum``; opt-in, no chapter uses it): the blocks-first sweeps from extrapolated
-  impulses (:mod:`thesis.physics.solver`, Momentum), at relaxation 0.6 with the contact
-  rows at 0.3; ``thesis bench solver`` measures its sweeps against the direct solution.
+  ``momentum``, ``row_relaxation``, ``momentum_restart``; opt-in, no chapter uses it): the
+  blocks-first sweeps from extrapolated impulses (:mod:`thesis.physics.solver`, Momentum);
+  ``thesis bench solver`` measures its sweeps against the direct solution (config
+  ``physics.solver_bench``: momentum 0.85 with the joint blocks at 0.65, the other rows at
+  0.8, the contacts at 0.5, restart). As the chapters' solver at half their step (dt 1.25
+  ms, 40 sweeps; 0.63 s CPU per simulated robot-second against 0.70 s for 2.5 ms / 120
+  blocks-first sweeps, Tab. 3.1b at 1.5 Hz, 16 robots, median of 3) it is **not converged**
+  by ``model/convergence`` (30 starts per case, the fitted knee spring 2.0): twice the
+  sweeps is inconclusive (no case beyond 10 % with its interval; the half ellipse moves
+  by less than 0.1 %), but under half the step Tab. 3.1b at 0.5 Hz (77 % of its starts
+  fall) walks 0.085 -> 0.032 m/s, beyond 10 % with its Bonferroni interval; the half
+  ellipse moves by at most 0.7 % at every frequency, Tab. 3.1b by 1.2 % at 1.5 Hz (0.325
+  m/s; interval to 14 %) and 3.3 % at 2.6 Hz (no fall; to 6 %), Tab. 4.2's flat optimum
+  by 5.8 % at its own 1.98 Hz (no fall; to 9.4 %), and that optimum's fall rate at 2.6 Hz
+  goes 7 % -> 40 % (the rule pools the fall rate over the cases: +2.5 points). At 60
+  sweeps (0.89 s CPU per robot-second) the table is the same (Tab. 3.1b at 0.5 Hz 0.094
+  -> 0.031 m/s under half the step; the flat optimum +5.8 % at 1.98 Hz, 10 % -> 37 %
+  falls at 2.6 Hz): the step, not the sweeps, moves them. The chapters therefore keep 2.5
+  ms / 120 blocks-first sweeps.
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
@@ -304,7 +320,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
             tether_rail_height=None, tether_slack=0.0, tether_stiffness=0.0,
             tether_damping=0.0, tether_width=0.0, joint_hz=JOINT_HZ,
             contact_hz=CONTACT_HZ, warm_start=0.85, sweep_order="jacobi",
-            contact_relaxation=None, momentum=0.85, feet="sphere", foot_length=FOOT_LENGTH,
+            contact_relaxation=None, momentum=0.85, row_relaxation=None,
+            momentum_restart=True, feet="sphere", foot_length=FOOT_LENGTH,
             foot_width=FOOT_WIDTH, toe_offset=None, plate_mass=PLATE_MASS):
     """Build the Oncilla on a flat floor (material ``"floor"``); returns ``(Model, State)``.
 
@@ -317,8 +334,11 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
         relaxation, sweep_order, contact_relaxation: the solver's relaxation factor, the
             order of its updates within a sweep and the contact rows' own relaxation
             factor (None: ``relaxation``) (:mod:`thesis.physics.solver`; module
-            docstring, Solver). momentum: the extrapolation factor of the
-            ``"momentum"`` order (ignored by the others).
+            docstring, Solver). momentum, momentum_restart: the extrapolation factor of
+            the ``"momentum"`` order and whether a sweep whose update turned drops it
+            (ignored by the others). row_relaxation: None (``relaxation``) or the
+            relaxation factor of the scalar rows that are not contacts
+            (:class:`thesis.physics.Builder`).
         drive_stiffness [N m/rad], drive_damping [N m s/rad]: the hip and knee drives' PD.
         scapula_gain [1/s]: the scapula servos' position gain.
         hip_torque, knee_torque, scapula_torque: servo torque limits [N m].
@@ -375,7 +395,8 @@ def oncilla(*, dt=0.0025, solver_iterations=30, relaxation=0.3, drive_stiffness=
                 relaxation=relaxation, joint_hz=joint_hz, limit_hz=joint_hz,
                 contact_hz=contact_hz, restitution=restitution, contact_slop=0.001,
                 warm_start=warm_start, sweep_order=sweep_order,
-                contact_relaxation=contact_relaxation, momentum=momentum)
+                contact_relaxation=contact_relaxation, momentum=momentum,
+                momentum_restart=momentum_restart, row_relaxation=row_relaxation)
     # the floor's own material (same values as the builder's default material), so that a
     # terrain can change it: terrain.set_material("floor")
     b.add_material("floor", friction, restitution, float(contact_hz), 1.0)

@@ -3,11 +3,11 @@
 
 Chapters 3, 4 and 6 (and the model's validation) configure the robot in a ``model``
 section (config/schema.yaml: ``dt``, ``solver_iterations``, ``knee_spring``,
-``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``, the momentum
-order's ``momentum``, in ch6 the constraint softness ``joint_hz`` / ``contact_hz``, and in
-ch4 the feet: ``feet`` (``sphere`` or ``plate``) with the plates' ``foot_length`` and
-``foot_width``)
-and chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
+``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``,
+``row_relaxation``, the momentum order's ``momentum`` and ``restart``, in ch6 the
+constraint softness ``joint_hz`` / ``contact_hz``, and in ch4 the feet: ``feet``
+(``sphere`` or ``plate``) with the plates' ``foot_length`` and ``foot_width``) and
+chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
 have keeps :func:`oncilla`'s default.
 """
 
@@ -29,13 +29,18 @@ _PLATE_FLOATS = ("foot_length", "foot_width")
 def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:
     """:func:`oncilla` keyword arguments of a ``model`` config section and, when given,
     a ``tether`` section (``rail_height`` [m], ``slack`` [m], ``stiffness`` [N/m],
-    ``damping`` [N s/m], ``width`` [m]). ``contact_relaxation`` null or absent: None
-    (the contact rows take ``relaxation``)."""
+    ``damping`` [N s/m], ``width`` [m]). ``contact_relaxation`` (``row_relaxation``)
+    null or absent: None (the contact rows (the other scalar rows) take ``relaxation``);
+    ``restart`` is the momentum order's ``momentum_restart``."""
     cr = model.get("contact_relaxation")
+    rr = model.get("row_relaxation")
     kw = dict(dt=float(model["dt"]), solver_iterations=int(model["solver_iterations"]),
               knee_spring=float(model["knee_spring"]), warm_start=float(model["warm_start"]),
               relaxation=float(model["relaxation"]), sweep_order=str(model["sweep_order"]),
-              contact_relaxation=None if cr is None else float(cr))
+              contact_relaxation=None if cr is None else float(cr),
+              row_relaxation=None if rr is None else float(rr))
+    if "restart" in model:
+        kw["momentum_restart"] = bool(model["restart"])
     kw.update({k: float(model[k]) for k in _OPTIONAL_FLOATS if k in model})
     if model.get("feet", "sphere") != "sphere":
         kw["feet"] = str(model["feet"])
