@@ -164,12 +164,16 @@ def heldout_gait(signals, offset, length, label, gait, trials, columns, part_tar
         te = _segments(trials[gait[trials] == g], length)
         train = P.to_parts(signals, offset, label, tr, columns, part_target)
         test = P.to_parts(signals, offset, label, te, columns, part_target)
-        n[j] = test.n_samples
-        maj[j] = majority_steps(test.labels(), n_classes)
-        lda[j] = lda_correct(train, test)
-        for s, d in enumerate(draws):
-            rc[s, j] = rc_correct(params, d, train, test, n_classes)
+        n[j], maj[j], lda[j], rc[:, j] = _fold(train, test, params, draws, n_classes)
     return dict(gaits=gaits, n=n, majority=maj, rc=rc, lda=lda)
+
+
+def _fold(train, test, params: dict, draws: list, n_classes: int):
+    """One split's counts: test time steps, the majority's correct steps, the linear
+    discriminant's and (per draw) the reservoir's correct steps."""
+    rc = [rc_correct(params, d, train, test, n_classes) for d in draws]
+    return (test.n_samples, majority_steps(test.labels(), n_classes),
+            lda_correct(train, test), rc)
 
 
 def _cells(gait, frequency, label, trials) -> list[np.ndarray]:
@@ -203,11 +207,7 @@ def within_cell(signals, offset, length, label, gait, frequency, trials, columns
                            part_target)
         test = P.to_parts(signals, offset, label, _segments(ids, length, "second"), columns,
                           part_target)
-        n[c] = test.n_samples
-        maj[c] = majority_steps(test.labels(), n_classes)
-        lda[c] = lda_correct(train, test)
-        for s, d in enumerate(draws):
-            rc[s, c] = rc_correct(params, d, train, test, n_classes)
+        n[c], maj[c], lda[c], rc[:, c] = _fold(train, test, params, draws, n_classes)
     return dict(cells=cells, n=n, majority=maj, rc=rc, lda=lda)
 
 
