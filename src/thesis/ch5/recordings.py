@@ -167,23 +167,29 @@ def terrain_model(model, material, skin_ratio: float):
     if not model.absolute_contact:
         raise ValueError("terrain_model: the Puppy II must be built with a contact in "
                          "physical units (thesis.ch5.recordings.puppy_model)")
-    import jax.numpy as jnp
-
     mu = material[0:1]
     k = material[2:3]
-    c = 2.0 * material[3:4] * jnp.sqrt(k * (_puppy().MASS / 4.0))
+    c = paw_damping(k, material[3:4])
     return model.replace(material_friction=mu, material_friction_backward=mu,
                          material_friction_forward=float(skin_ratio) * mu,
                          material_restitution=material[1:2], material_stiffness=k,
                          material_damping=c)
 
 
+def paw_damping(stiffness, damping_ratio):
+    """Damping [N s/m] of a paw-floor contact of ``stiffness`` [N/m] at ``damping_ratio``:
+    ``2 zeta sqrt(k m_paw)``, ``m_paw`` the paw's share m / 4 of the robot's mass
+    (docs/sources.md#ch5-terrain-contact). Arrays, traced or not (a float array of one
+    value for a float)."""
+    import jax.numpy as jnp
+
+    return 2.0 * damping_ratio * jnp.sqrt(stiffness * (_puppy().MASS / 4.0))
+
+
 def puppy_model(ch5: dict):
     """(model, state0) of the Puppy II at ``ch5.model``'s settings with its floor contact
     in physical units (built on terrain F's stiffness and damping; every trial replaces
     the material with its terrain's, :func:`terrain_model`)."""
-    import math
-
     mcfg = ch5["model"]
     pup = _puppy()
     f = ch5["terrains"]["F"]
@@ -193,8 +199,7 @@ def puppy_model(ch5: dict):
                      sweep_order=str(mcfg.get("sweep_order", "jacobi")),
                      relaxation=float(mcfg.get("relaxation", 0.3)),
                      momentum=float(mcfg.get("momentum", 0.85)), contact_stiffness=k,
-                     contact_damping=2.0 * float(f["damping_ratio"]) * math.sqrt(
-                         k * pup.MASS / 4.0))
+                     contact_damping=float(paw_damping(k, float(f["damping_ratio"]))))
 
 
 @functools.lru_cache(maxsize=8)
