@@ -96,7 +96,7 @@ DEPARTURES: tuple[Departure, ...] = (
              "402): a point sample of the paw's force every 20 ms, 0 below 0.1 N, clipped "
              "at 10 N, a per-sample gain error of sd 2 % (the sheet's +-2 % repeatability "
              "read as one standard deviation) and +10 % while the force falls (hysteresis); "
-             "no further noise (ch5.noise.touch 0, in place of the earlier chosen 0.3 N).",
+             "no further noise (ch5.noise.touch 0).",
         why="Typical of the sensor types; the paw sensor's type is not published, the FSR is "
             "the low-cost kind of the time with a data sheet; fixed with the terrains, before "
             "any classifier ran.",
