@@ -133,7 +133,13 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   goes 7 % -> 40 % (the rule pools the fall rate over the cases: +2.5 points). At 60
   sweeps (0.89 s CPU per robot-second) the table is the same (Tab. 3.1b at 0.5 Hz 0.094
   -> 0.031 m/s under half the step; the flat optimum +5.8 % at 1.98 Hz, 10 % -> 37 %
-  falls at 2.6 Hz): the step, not the sweeps, moves them. The chapters therefore keep 2.5
+  falls at 2.6 Hz): the step, not the sweeps, moves them. A quarter of the step (0.625 ms,
+  40 momentum sweeps, about 1.8x the CPU) is **inconclusive**: twice the sweeps moves no
+  case that stays up by more than 0.3 % (falls +0.2 points), but under half that step
+  (0.3125 ms) Tab. 3.1b moves +6.9 % at 1.5 Hz (0.322 -> 0.344 m/s) and +7.3 % at 2 Hz
+  (its falls 47 % -> 60 %), Tab. 4.2's flat optimum at 2.6 Hz +24 % (falls 40 % -> 90 %),
+  while the half ellipse moves by at most 0.4 % at every frequency: the published splines'
+  speeds and falls have not settled at any step tried. The chapters therefore keep 2.5
   ms / 120 blocks-first sweeps.
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
