@@ -82,6 +82,44 @@ def test_chapter5_claims_are_flagged_by_the_puppy_s_convergence_table():
     assert MV.flag(["ch7/ball"], bad) == {}
 
 
+def _heldout(rc_passed, lda, within_passed, majority=45.0):
+    return xr.Dataset(dict(
+        pooled_passed=((), rc_passed), pooled_lda_accuracy=((), lda),
+        pooled_majority_share=((), majority), within_passed=((), within_passed)),
+        attrs=dict(test_a="Test A: FAIL", test_b="Test B: FAIL", selection="touch"))
+
+
+def test_chapter5_claims_are_flagged_when_no_terrain_crosses_the_gaits():
+    converged = {"model/puppy_convergence": _convergence(["converged", "converged"])}
+    # neither the reservoir nor the linear discriminant beats the majority: the model's
+    no_signal = {**converged, "model/puppy_heldout": _heldout(False, 40.0, True)}
+    f = MV.flag(["ch5/table5_3"], no_signal)["model_validation"]
+    assert f["unvalidated"]
+    assert [x["target"] for x in f["failed_targets"]] == ["Puppy II terrains across gaits"]
+    assert "40.0 % against the held-out majority share 45.0 %" in f["failed_targets"][0]["text"]
+    assert "thesis bench puppy-heldout" in MV.text({"model_validation": f})
+    assert "thesis validate oncilla" not in MV.text({"model_validation": f})
+    # the discriminant finds it where the reservoir does not: the method's failure, no flag
+    method = {**converged, "model/puppy_heldout": _heldout(False, 60.0, True)}
+    assert not MV.flag(["ch5/table5_3"], method)["model_validation"]["unvalidated"]
+    passed = {**converged, "model/puppy_heldout": _heldout(True, 40.0, True)}
+    assert not MV.flag(["ch5/table5_3"], passed)["model_validation"]["unvalidated"]
+    within = {"model/puppy_heldout": _heldout(True, 60.0, False)}  # without the table too
+    f = MV.flag(["ch5/table5_3"], within)["model_validation"]
+    assert [x["target"] for x in f["failed_targets"]] == ["Puppy II terrains within a gait"]
+    both = {"model/puppy_convergence": _convergence(["not converged", "converged"]),
+            "model/puppy_heldout": _heldout(False, 40.0, False)}
+    f = MV.flag(["ch5/table5_3"], both)["model_validation"]
+    assert len(f["failed_targets"]) == 3
+    text = MV.text({"model_validation": f})
+    assert "thesis validate puppy, thesis bench puppy-heldout)" in text
+    assert MV.flag(["ch3/table3_1"], no_signal) == {}  # the Oncilla's claims: not read
+    verdict = {"status": "inconclusive", "requires": ["ch5/table5_3"],
+               **MV.flag(["ch5/table5_3"], no_signal)}
+    from thesis.claims import kinds
+    assert kinds.classify(verdict)["kind"] == "model failed validation"
+
+
 def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
     results = {"model/validation": _validation([0, 1, 1, 1, 1, 1])}
     oncilla = [c for c in CLAIMS if MV.rests_on_oncilla(c.requires)]

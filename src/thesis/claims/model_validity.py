@@ -20,7 +20,16 @@ Chapter 5's claims rest on the simulated Puppy II's recordings (``requires`` und
 ``ch5/``): where its convergence table (``model/puppy_convergence``,
 :mod:`thesis.modelcheck.puppy_convergence`) decides "not converged", they carry the same
 flag with that table as the failed target ("Puppy II convergence"), and an inconclusive
-one is named as the Oncilla's is.
+one is named as the Oncilla's is. They carry it too where the Puppy II's terrain check
+(``model/puppy_heldout``, ``thesis bench puppy-heldout``,
+:mod:`thesis.modelcheck.puppy_heldout`) shows that the recordings lack what the real
+robot's had: the terrain carrying across gaits (§5.3-5.4), failed ("Puppy II terrains
+across gaits") when the reservoir's held-out-gait test (Test A) fails *and* the linear
+discriminant beside it does not beat the held-out majority share either, i.e. the
+channels hold no terrain that crosses gaits, which no classifier can find; where the
+discriminant does beat it, the reservoir's failure is the method's, a finding of the
+chapter, and nothing is flagged. The terrains being separable within one gait x
+frequency (Test B) is the second target ("Puppy II terrains within a gait").
 
 Claims on a calibration target. The knee spring is fitted to V1, Tab.
 3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
@@ -50,6 +59,16 @@ PUPPY_CONVERGENCE_KEY = "model/puppy_convergence"
 PUPPY_RESULTS = ("ch5/",)
 #: Failed-target name of the Puppy II's convergence table.
 PUPPY_TARGET = "Puppy II convergence"
+#: Result key of the Puppy II's terrain check (held-out gait and within a cell).
+PUPPY_HELDOUT_KEY = "model/puppy_heldout"
+#: Failed-target name of its held-out-gait test when no terrain crosses the gaits.
+PUPPY_ACROSS_TARGET = "Puppy II terrains across gaits"
+#: Failed-target name of its within-cell test.
+PUPPY_WITHIN_TARGET = "Puppy II terrains within a gait"
+#: The command that remakes each failed target's result (the Oncilla's otherwise).
+REMAKE = {PUPPY_TARGET: "thesis validate puppy",
+          PUPPY_ACROSS_TARGET: "thesis bench puppy-heldout",
+          PUPPY_WITHIN_TARGET: "thesis bench puppy-heldout"}
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
 #: Reading shown beside a verdict whose model's convergence table is inconclusive.
@@ -91,6 +110,25 @@ def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
             "text": text}
 
 
+def terrain_failures(results: Mapping) -> list[dict] | None:
+    """The failed targets of the Puppy II's terrain check ``results[PUPPY_HELDOUT_KEY]``
+    (module docstring) as ``[{"target": ..., "text": ...}]``, empty when both hold; None
+    when the check was not run."""
+    ds = results.get(PUPPY_HELDOUT_KEY)
+    if ds is None:
+        return None
+    out = []
+    lda, maj = float(ds["pooled_lda_accuracy"]), float(ds["pooled_majority_share"])
+    if not bool(ds["pooled_passed"]) and lda <= maj:
+        out.append({"target": PUPPY_ACROSS_TARGET, "text": (
+            f"{ds.attrs['test_a']}; the linear discriminant scores {lda:.1f} % against the "
+            f"held-out majority share {maj:.1f} %: no terrain in the "
+            f"{ds.attrs.get('selection', 'touch')} channels crosses gaits")})
+    if not bool(ds["within_passed"]):
+        out.append({"target": PUPPY_WITHIN_TARGET, "text": str(ds.attrs["test_b"])})
+    return out
+
+
 def rests_on_oncilla(requires: Iterable[str]) -> bool:
     """True if any required result comes from chapter 3, 4 or 6."""
     return any(str(r).startswith(ONCILLA_RESULTS) for r in requires)
@@ -117,15 +155,18 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     ``unvalidated`` False with no failed target where the validation passed; and
     ``calibration_target`` (:func:`calibration_mark`) where its thesis numbers include
     the calibration's target. A claim on chapter 5's recordings gains ``model_validation``
-    from the Puppy II's convergence table alone. A claim that was not decided (``status``
-    ``"not_run"``) gains nothing."""
+    from the Puppy II's convergence table and terrain check (:func:`terrain_failures`)
+    alone. A claim that was not decided (``status`` ``"not_run"``) gains nothing."""
     if status == "not_run":
         return {}
     if any(str(r).startswith(PUPPY_RESULTS) for r in requires) \
             and not rests_on_oncilla(requires):
         conv = convergence_failure(results, PUPPY_CONVERGENCE_KEY, PUPPY_TARGET)
-        return {} if conv is None else {
-            "model_validation": _record([conv] if conv["failed"] else [], conv)}
+        terrain = terrain_failures(results)
+        if conv is None and terrain is None:
+            return {}
+        failed = ([conv] if conv is not None and conv["failed"] else []) + (terrain or [])
+        return {"model_validation": _record(failed, conv)}
     if not rests_on_oncilla(requires):
         return {}
     out = {}
@@ -158,10 +199,11 @@ def text(claim: Mapping) -> str:
     parts = []
     mv = claim.get("model_validation") or {}
     if mv.get("unvalidated"):
-        names = ", ".join(f["target"] for f in mv.get("failed_targets", []))
-        puppy = any(f["target"] == PUPPY_TARGET for f in mv.get("failed_targets", []))
-        robot = "puppy" if puppy else "oncilla"
-        parts.append(f"{UNVALIDATED} (failed: {names}; thesis validate {robot})")
+        failed = mv.get("failed_targets", [])
+        names = ", ".join(f["target"] for f in failed)
+        cmds = ", ".join(dict.fromkeys(REMAKE.get(f["target"], "thesis validate oncilla")
+                                       for f in failed))
+        parts.append(f"{UNVALIDATED} (failed: {names}; {cmds})")
     unsure = mv.get("convergence_inconclusive")
     if unsure:
         robot = "puppy" if unsure["target"] == PUPPY_TARGET else "oncilla"
