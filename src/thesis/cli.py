@@ -6,7 +6,8 @@
 - ``thesis validate oncilla --profile smoke``: the Oncilla model's validation on the
   thesis's published gaits (V1-V6), its convergence table and the knee spring's
   calibration to V1, into ``results/<profile>/model/validation.nc``, ``convergence.nc``
-  and ``calibration.nc``; ``thesis validate puppy``: the Puppy II's recordings in dt and
+  and ``calibration.nc``; ``--only fit`` (only when named) the fit of its unsourced values
+  (``model/fit.nc``, :mod:`thesis.modelcheck.fit`); ``thesis validate puppy``: the Puppy II's recordings in dt and
   sweeps, into ``model/puppy_convergence.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
   write ``results/<profile>/claims.json``, and the decision rules' power table beside it
@@ -172,11 +173,12 @@ def _cmd_validate(args) -> int:
         known = ", ".join(sorted(registry.VALIDATIONS))
         raise SystemExit(f"unknown robot {args.robot!r} to validate; available: {known}")
     keys = registry.VALIDATIONS[args.robot]
-    if args.only:
-        keys = tuple(k for k in keys if k.endswith("/" + args.only))
+    if args.only:  # an optional check (the Oncilla's fit) runs only when named
+        named = keys + registry.OPTIONAL_VALIDATIONS.get(args.robot, ())
+        keys = tuple(k for k in named if k.endswith("/" + args.only))
         if not keys:
             raise SystemExit(f"--only {args.only!r}: not one of "
-                             f"{', '.join(k.split('/')[1] for k in registry.VALIDATIONS[args.robot])}")
+                             f"{', '.join(k.split('/')[1] for k in named)}")
     if args.output and len(keys) != 1:
         raise SystemExit("--output needs --only (one dataset per output path)")
     for key in keys:  # a twin run perturbs the model checks like every other job
@@ -336,9 +338,10 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("robot", help="oncilla or puppy")
     common(v)
     v.add_argument("--only", default=None, choices=("validation", "convergence", "calibration",
-                                               "puppy_convergence"),
-                   help="run only the validation, the convergence table or the "
-                        "calibration (oncilla), or the convergence table (puppy)")
+                                               "fit", "puppy_convergence"),
+                   help="run only the validation, the convergence table, the "
+                        "calibration or the fit of the unsourced values (oncilla; the fit "
+                        "runs only when named), or the convergence table (puppy)")
     v.add_argument("--output", default=None,
                    help="result path, with --only (default results/<profile>/model/<only>.nc)")
     v.set_defaults(func=_cmd_validate)

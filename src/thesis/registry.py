@@ -83,6 +83,7 @@ EXPERIMENTS: dict[str, str] = {
     "model/validation": "thesis.modelcheck.validation:validation",
     "model/convergence": "thesis.modelcheck.validation:convergence",
     "model/calibration": "thesis.modelcheck.calibration:calibration",
+    "model/fit": "thesis.modelcheck.fit:fit",
     "model/puppy_convergence": "thesis.modelcheck.puppy_convergence:convergence",
     "model/puppy_contact": "thesis.modelcheck.puppy_contact:puppy_contact",
     "model/puppy_heldout": "thesis.modelcheck.puppy_heldout:puppy_heldout",
@@ -93,6 +94,12 @@ EXPERIMENTS: dict[str, str] = {
 VALIDATIONS: dict[str, tuple[str, ...]] = {
     "oncilla": ("model/validation", "model/convergence", "model/calibration"),
     "puppy": ("model/puppy_convergence",),
+}
+
+#: ``thesis validate <robot> --only <name>`` -> further registry keys that run only when
+#: named (the Oncilla's fit of its unsourced values: many rollouts, no claim reads it).
+OPTIONAL_VALIDATIONS: dict[str, tuple[str, ...]] = {
+    "oncilla": ("model/fit",),
 }
 
 #: ``thesis bench <name>`` -> registry key of the benchmark it runs.
@@ -200,6 +207,8 @@ READS: dict[str, tuple[str, ...]] = {
     "model/calibration": ("physics.oncilla_calibration", "physics.oncilla_validation",
                           "ch4.model", "ch4.tether", "ch4.protocol.settle",
                           "ch4.protocol.fall_height"),
+    "model/fit": ("physics.oncilla_fit", "physics.oncilla_validation", "ch4.model",
+                  "ch4.tether", "ch4.protocol.settle", "ch4.protocol.fall_height"),
 }
 
 

@@ -72,6 +72,30 @@ rule model_calibration:
         "--output {output.nc} > {log} 2>&1"
 
 
+# The fit of the Oncilla's unsourced values (thesis.modelcheck.fit, split.PROCEDURE): an
+# optional model check, run by name (snakemake model_fit), outside MODEL_TARGETS: no claim
+# or report reads it, and it has no smoke regression reference.
+rule model_fit:
+    message:
+        "Oncilla model: the fit of the unsourced values to Tab. 3.1a and 3.1b at 1.5 Hz, profile {PROFILE}"
+    output:
+        nc=result("model", "fit"),
+    params:
+        cfg=cfg_slice("model/fit"),
+        code=MODEL_CODE,
+        only="fit",
+    log:
+        log_path("model", "fit"),
+    benchmark:
+        bench_path("model", "fit")
+    threads: 2
+    resources:
+        **res("model", "fit", mem_mb=4000, runtime=600),
+    shell:
+        "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
+
+
 rule model_puppy_convergence:
     message:
         f"Puppy II model: the recordings at dt, dt/2 and twice the sweeps, profile {PROFILE}"

@@ -24,7 +24,8 @@ so a test can check that the calibration reads only the keys of the *fitted on* 
   its optimiser: declared, not run here.
 
 The knee-spring calibration that exists (:mod:`thesis.modelcheck.calibration`) reads V1
-alone, a subset of the fitted side.
+alone, a subset of the fitted side. :mod:`thesis.modelcheck.fit` runs :data:`PROCEDURE`
+(``thesis validate oncilla --only fit``).
 """
 
 from __future__ import annotations

@@ -156,13 +156,24 @@ def v1_speeds() -> tuple[float, float]:
     return float(lo), float(hi)
 
 
+#: The paper key of Tab. 3.1b's published speed at 1.5 Hz (Fig. 3.4, §3.3.1.3): V2's fitted
+#: part (:mod:`thesis.modelcheck.split`), what the model fit reads beside V1's speeds.
+V2_FIT_PAPER_KEY = "fig3_4/gait=spline/frequency=1.5/speed"
+
+
+def v2_fitted_speed() -> float:
+    """Tab. 3.1b's published speed at 1.5 Hz [m/s] (:data:`V2_FIT_PAPER_KEY`), read alone:
+    the fitted side of :mod:`thesis.modelcheck.split`, unlike its fastest speed."""
+    return float(paper.get(V2_FIT_PAPER_KEY).value)
+
+
 def published_speeds() -> dict:
     """The published speeds the targets compare with [m/s], read from :mod:`thesis.paper`:
     ``v1`` (lo, hi) of Tab. 3.1a at 1.5 Hz (:func:`v1_speeds`), ``v2`` {frequency [Hz]:
     speed} of Tab. 3.1b at 1.5 Hz and at its fastest frequency (§3.3.1.3). The fastest is
     validation only (:mod:`thesis.modelcheck.split`): no calibration calls this."""
     lo, hi = v1_speeds()
-    v15 = paper.get("fig3_4/gait=spline/frequency=1.5/speed").value
+    v15 = v2_fitted_speed()
     vmax = paper.get("fig3_4/gait=spline/max_speed").value
     fmax = paper.get("fig3_4/gait=spline/max_speed_frequency").value
     return dict(v1=(lo, hi), v2={1.5: float(v15), float(fmax): float(vmax)})
