@@ -16,6 +16,7 @@ import pytest
 from thesis import paper
 from thesis.config import load_config
 from thesis.modelcheck import calibration as CAL
+from thesis.modelcheck import fit as FIT
 from thesis.modelcheck import split as S
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
@@ -155,10 +156,11 @@ def test_the_calibration_end_to_end_reads_only_the_fitted_side(guard, monkeypatc
     assert not set(guard.keys) & S.paper_keys(S.JUDGED)
 
 
-def test_the_calibration_calls_no_reader_of_the_judged_side():
-    """Static: the calibration module names none of the targets' readers that read
-    validation-only numbers or gaits (the dynamic tests above see only the paths run)."""
-    tree = ast.parse(inspect.getsource(CAL))
+@pytest.mark.parametrize("module", [CAL, FIT], ids=["calibration", "fit"])
+def test_the_calibration_and_the_fit_call_no_reader_of_the_judged_side(module):
+    """Static: the calibration's and the fit's modules name none of the targets' readers
+    that read validation-only numbers or gaits (the dynamic tests see only the paths run)."""
+    tree = ast.parse(inspect.getsource(module))
     used = {(n.value.id, n.attr) for n in ast.walk(tree)
             if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name)}
     forbidden = {("TG", "published_speeds"), ("TG", "decide"), ("TG", "published_gaits"),
