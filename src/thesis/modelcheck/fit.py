@@ -74,7 +74,7 @@ from thesis.modelcheck import checks as M
 from thesis.modelcheck import split as S
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
-from thesis.physics.models.oncilla import oncilla
+from thesis.physics.models.oncilla import TOE_BEHIND_CENTRE, oncilla
 from thesis.physics.models.oncilla_config import oncilla_kwargs
 
 #: Stream of the Latin hypercube (:data:`thesis.modelcheck.split.PROCEDURE`).
@@ -91,18 +91,11 @@ AT_BOUND = 0.02
 _MIXED = "see parameter_unit"
 #: Ratio drive_stiffness / drive_damping [1/s] (split.DERIVED).
 DAMPING_RATIO = 50.0
-#: The toe's place behind the plate's centre [m] (split.DERIVED).
-TOE_BEHIND_CENTRE = 0.004
-
-
-def parameters() -> tuple[S.Parameter, ...]:
-    """Every declared parameter, in :data:`~thesis.modelcheck.split.PARAMETERS` order."""
-    return S.PARAMETERS
 
 
 def free(params=None) -> tuple[S.Parameter, ...]:
     """The parameters the fit varies (all but :data:`HELD`)."""
-    return tuple(p for p in (params or parameters()) if p.name not in HELD)
+    return tuple(p for p in (params or S.PARAMETERS) if p.name not in HELD)
 
 
 def _ends(p: S.Parameter) -> tuple[float, float]:
@@ -282,11 +275,10 @@ def values_of(params, unit) -> dict[str, float]:
 
 def build_model(ch4: dict, values: dict):
     """(Model, State) of ``ch4.model`` with the plate feet and ``values`` (and their
-    derived values, split.DERIVED), untethered."""
+    derived values, split.DERIVED: the model places the toe on the plate itself), untethered."""
     kw = oncilla_kwargs(ch4["model"], ch4.get("tether"))
-    length = float(values["foot_length"])
-    kw.update(feet="plate", foot_length=length, foot_width=float(values["foot_width"]),
-              toe_offset=length / 2 + TOE_BEHIND_CENTRE,
+    kw.update(feet="plate", foot_length=float(values["foot_length"]),
+              foot_width=float(values["foot_width"]),
               knee_spring=float(values["knee_spring"]),
               drive_stiffness=float(values["drive_stiffness"]),
               drive_damping=float(values["drive_stiffness"]) / DAMPING_RATIO)
@@ -330,7 +322,7 @@ def fit(ctx, rollout: Callable | None = None) -> xr.Dataset:
         # each case is one compiled call of its starts: a batch wider than them pads it
         rollout = simulator(full, settle=settle, seconds=seconds, fall_height=fall_height,
                             batch=min(int(vcfg["batch"]), n_starts))
-    params = parameters()
+    params = S.PARAMETERS
     fr = free(params)
     cs = cases()
     bd = bands()
