@@ -17,6 +17,7 @@ from thesis import registry
 from thesis.claims import CLAIMS, model_validity as MV
 from thesis.config import load_config
 from thesis.modelcheck import calibration as CAL
+from thesis.modelcheck import split as S
 from thesis.modelcheck import targets as TG
 from thesis.report import validation as RV
 from thesis.report import verdicts as VD
@@ -207,3 +208,23 @@ def test_claims_on_v1_s_speed_are_marked_as_resting_on_a_calibration_target():
     assert "calibration_target" not in MV.flag(other.requires, results, "reproduced",
                                                other.paper_keys)
     assert MV.flag(c.requires, {}, "reproduced", c.paper_keys) == {}
+
+
+def test_with_the_fit_every_claim_on_a_fitted_number_is_marked_from_the_fit():
+    fitted = S.paper_keys(S.FITTED)
+    assert set(TG.V1_PAPER_KEYS) <= fitted and len(fitted) > len(TG.V1_PAPER_KEYS)
+    fit = xr.Dataset(dict(fit_knee_spring=((), 3.1),
+                          configured_matches_fit=(("parameter",), np.int8([1, 1, 0]))))
+    results = {"model/calibration": _calibration(), "model/fit": fit}
+    on_oncilla = [c for c in CLAIMS if MV.rests_on_oncilla(c.requires)]
+    marked = [c for c in on_oncilla if set(c.paper_keys) & fitted]
+    assert marked
+    for c in on_oncilla:
+        mark = MV.flag(c.requires, results, "reproduced", c.paper_keys).get(
+            "calibration_target")
+        assert (mark is not None) == (c in marked), c.id
+        if mark:  # the fit supersedes the V1 calibration, and one unmatched value shows
+            assert mark["source"] == "model/fit" and mark["fitted_knee_spring"] == 3.1
+            assert mark["configured_matches_fit"] is False
+            assert set(mark["keys"]) == set(c.paper_keys) & fitted
+            assert "model/fit" in MV.text({"calibration_target": mark})

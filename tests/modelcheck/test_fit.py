@@ -198,3 +198,29 @@ def test_the_fit_is_registered_configured_and_run_only_by_name():
     assert [(c["gait"], c["frequency"]) for c in F.cases()] == list(S.PROCEDURE["cases"])
     assert {p.name for p in S.PARAMETERS} == set(F.SCALES)
     assert {p.name for p in S.PARAMETERS if not p.wired} == set(F.HELD)
+
+
+def test_the_dataset_shows_whether_the_chapters_run_the_fit_and_the_report_renders_it():
+    from thesis.report import validation as RV
+
+    stub = _stub()
+    ds = F.fit(_ctx(dict(design_points=3, local_starts=0)), rollout=stub)
+    conf = dict(zip(ds["parameter"].values, ds["configured"].values))
+    cfg = _ctx().full_config["ch4"]["model"]
+    assert conf == dict(foot_length=cfg["foot_length"], foot_width=cfg["foot_width"],
+                        knee_spring=cfg["knee_spring"], drive_stiffness=cfg["drive_stiffness"],
+                        LEG_OFFSET=0.031)
+    # the design's first point is the configured values: that evaluation matches them
+    match = dict(zip(ds["parameter"].values, ds["configured_matches_fit"].values))
+    assert match["LEG_OFFSET"] == 1
+    fit = dict(zip(ds["parameter"].values, ds["fit_value"].values))
+    for name in ("foot_length", "knee_spring"):
+        assert match[name] == int(abs(conf[name] - fit[name]) <= 0.01 * abs(fit[name]))
+    table = RV.fit_table({"model/fit": ds})
+    assert [r[0] for r in table.rows] == list(ds["parameter"].values)
+    assert table.rows[-1][4].endswith("(held)") and table.rows[-1][5] == "—"
+    assert any("(not the fit)" in r[6] for r in table.rows) == (not all(match.values()))
+    assert "of 3 evaluations" in table.note.replace("evaluation 1 of 3", "of 3 evaluations") \
+        or f"of {ds.sizes['evaluation']}" in table.note
+    assert "feet 'sphere', not the fitted plates" in table.note  # the smoke profile's feet
+    assert RV.fit_table({}).rows == [["not run"] * 7]

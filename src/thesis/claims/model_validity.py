@@ -32,10 +32,12 @@ chapter, and nothing is flagged. The terrains being separable within one gait x
 frequency (Test B) is the second target ("Puppy II terrains within a gait").
 
 Claims on a calibration target. The knee spring is fitted to V1, Tab.
-3.1a's speed (:mod:`thesis.modelcheck.calibration`); a claim whose thesis numbers include
-that speed (``paper_keys`` among :data:`thesis.modelcheck.targets.V1_PAPER_KEYS`) and that
-rests on the Oncilla is marked where the profile's results hold the calibration: the model
-was made to walk that number, so matching it is no evidence.
+3.1a's speed (:mod:`thesis.modelcheck.calibration`), and the fit of the unsourced values
+(:mod:`thesis.modelcheck.fit`) to the whole fitted side of the split (V1 and Tab. 3.1b's
+speed at 1.5 Hz, :func:`thesis.modelcheck.split.paper_keys`); a claim whose thesis numbers
+include a fitted number and that rests on the Oncilla is marked where the profile's results
+hold the fit (its fitted side) or else the calibration (V1): the model was made to walk
+that number, so matching it is no evidence.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 
 from thesis.modelcheck import convergence_rule as CR
+from thesis.modelcheck import split as SPLIT
 from thesis.modelcheck.targets import V1_PAPER_KEYS
 
 #: Result key of the Oncilla's validation.
@@ -71,6 +74,7 @@ REMAKE = {PUPPY_TARGET: "thesis validate puppy",
           PUPPY_WITHIN_TARGET: "thesis bench puppy-heldout"}
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
+FIT_KEY = "model/fit"
 #: Reading shown beside a verdict whose model's convergence table is inconclusive.
 INCONCLUSIVE_CONVERGENCE = "model's convergence in dt and sweeps not shown (inconclusive)"
 #: Reading shown beside a verdict whose thesis number is the calibration's target.
@@ -135,14 +139,24 @@ def rests_on_oncilla(requires: Iterable[str]) -> bool:
 
 
 def calibration_mark(paper_keys: Iterable[str], results: Mapping) -> dict | None:
-    """The calibration-target record of a claim with ``paper_keys``: ``keys`` (its V1
-    keys), ``fitted_knee_spring`` [N m/rad], ``configured_matches_fit`` and ``reading``
-    (:data:`CALIBRATION_TARGET`); None when no key is V1's or the calibration was not run."""
+    """The calibration-target record of a claim with ``paper_keys``: ``keys`` (its fitted
+    keys), ``source`` (the result that fitted them), ``fitted_knee_spring`` [N m/rad],
+    ``configured_matches_fit`` and ``reading`` (:data:`CALIBRATION_TARGET`). With the fit
+    (:data:`FIT_KEY`) the fitted keys are the split's fitted side, else with the
+    calibration V1's; None when no key is fitted or neither was run."""
+    fit = results.get(FIT_KEY)
+    if fit is not None:
+        keys = sorted(set(paper_keys) & SPLIT.paper_keys(SPLIT.FITTED))
+        if not keys:
+            return None
+        return {"keys": keys, "reading": CALIBRATION_TARGET, "source": FIT_KEY,
+                "fitted_knee_spring": float(fit["fit_knee_spring"]),
+                "configured_matches_fit": bool(fit["configured_matches_fit"].all())}
     keys = sorted(set(paper_keys) & set(V1_PAPER_KEYS))
     ds = results.get(CALIBRATION_KEY)
     if not keys or ds is None:
         return None
-    return {"keys": keys, "reading": CALIBRATION_TARGET,
+    return {"keys": keys, "reading": CALIBRATION_TARGET, "source": CALIBRATION_KEY,
             "fitted_knee_spring": float(ds["fitted_knee_spring"]),
             "configured_matches_fit": bool(int(ds["configured_matches_fit"]))}
 
@@ -210,6 +224,11 @@ def text(claim: Mapping) -> str:
         parts.append(f"{INCONCLUSIVE_CONVERGENCE} ({unsure['text']}; thesis validate {robot})")
     ct = claim.get("calibration_target")
     if ct:
-        parts.append(f"{CALIBRATION_TARGET} (V1, Tab. 3.1a's speed: the knee spring was "
-                     f"fitted to it, {ct['fitted_knee_spring']:.4g} N m/rad)")
+        if ct.get("source") == FIT_KEY:
+            parts.append(f"{CALIBRATION_TARGET} ({', '.join(ct['keys'])}: the feet, knee "
+                         f"spring and drives were fitted to it, model/fit; knee spring "
+                         f"{ct['fitted_knee_spring']:.4g} N m/rad)")
+        else:
+            parts.append(f"{CALIBRATION_TARGET} (V1, Tab. 3.1a's speed: the knee spring was "
+                         f"fitted to it, {ct['fitted_knee_spring']:.4g} N m/rad)")
     return "; ".join(parts)

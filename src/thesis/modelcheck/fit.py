@@ -74,7 +74,8 @@ from thesis.modelcheck import checks as M
 from thesis.modelcheck import split as S
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
-from thesis.physics.models.oncilla import TOE_BEHIND_CENTRE, oncilla
+from thesis.physics.models.oncilla import (DRIVE_DAMPING_RATIO, LEG_OFFSET, TOE_BEHIND_CENTRE,
+                                           oncilla)
 from thesis.physics.models.oncilla_config import oncilla_kwargs
 
 #: Stream of the Latin hypercube (:data:`thesis.modelcheck.split.PROCEDURE`).
@@ -89,8 +90,20 @@ HELD = ("LEG_OFFSET",)
 AT_BOUND = 0.02
 #: ``units`` of a variable along ``parameter``: each row in its parameter's unit.
 _MIXED = "see parameter_unit"
-#: Ratio drive_stiffness / drive_damping [1/s] (split.DERIVED).
-DAMPING_RATIO = 50.0
+#: Largest |configured - fitted| / fitted for a configured value to count as the fit (the
+#: fit is written into the profiles to 4 significant digits), as the knee-spring calibration.
+MATCH_TOLERANCE = 0.01
+#: Ratio drive_stiffness / drive_damping [1/s] (split.DERIVED; the model's own).
+DAMPING_RATIO = DRIVE_DAMPING_RATIO
+
+
+def configured(model_cfg: dict, params=None) -> dict[str, float]:
+    """The value each parameter has in a ``ch4.model`` config section (its key; a held
+    parameter: the model's module constant), for the fit's dataset to show beside the fit
+    whether the chapters run it."""
+    constants = {"LEG_OFFSET": LEG_OFFSET}
+    return {p.name: float(model_cfg[p.name] if p.wired else constants[p.name])
+            for p in (S.PARAMETERS if params is None else params)}
 
 
 def free(params=None) -> tuple[S.Parameter, ...]:
@@ -355,6 +368,8 @@ def fit(ctx, rollout: Callable | None = None) -> xr.Dataset:
     ctx.log.info("fit: evaluation %d of %d, objective %.4g, %s", b + 1, len(records),
                  best["total"], ", ".join(f"{p.name} {x:.4g}{' (at a bound)' if k else ''}"
                                           for p, x, k in zip(params, fit_values, bound)))
+    conf_of = configured(full["ch4"]["model"], params)
+    conf = np.array([conf_of[p.name] for p in params])
     a = V._a
     E, EC, ECS = ("evaluation",), ("evaluation", "case"), ("evaluation", "case", "start")
     P, Cd = ("parameter",), ("case",)
@@ -402,6 +417,12 @@ def fit(ctx, rollout: Callable | None = None) -> xr.Dataset:
             "1", "fallen starts of each case at the fit")),
         local_start_origin=(("local_start",), res["origin"], a(
             "1", "the design evaluation each Nelder-Mead start began at")),
+        configured=(P, conf, a(_MIXED, "the value ch4.model holds (a held parameter: the "
+                                       "model's constant), in the parameter's unit")),
+        configured_matches_fit=(P, np.array(
+            [abs(c - f) <= MATCH_TOLERANCE * abs(f) for c, f in zip(conf, fit_values)],
+            np.int8), a("1", f"1 if the configured value is within {MATCH_TOLERANCE:.0%} of "
+                             "the fit")),
         fit_toe_offset=((), best["values"]["foot_length"] / 2 + TOE_BEHIND_CENTRE, a(
             "m", "derived: the plate's reach forward of the toe, foot_length / 2 + 4 mm")),
         fit_drive_damping=((), best["values"]["drive_stiffness"] / DAMPING_RATIO, a(
@@ -443,7 +464,8 @@ def fit(ctx, rollout: Callable | None = None) -> xr.Dataset:
         held_reason="LEG_OFFSET is a module constant of thesis.physics.models.oncilla "
                     "(hips, trunk inertia, the validation's hip frames), not a model "
                     "argument: held at its start value",
-        simulated=int(real), model_code_sha256=M.model_code_sha256())
+        simulated=int(real), model_code_sha256=M.model_code_sha256(),
+        configured_feet=str(full["ch4"]["model"].get("feet", "sphere")))
     if model is not None:
         ds.attrs.update(dt=float(model.dt), solver_iterations=int(model.solver_iterations),
                         sweep_order=str(model.sweep_order),

@@ -294,6 +294,9 @@ def optional_runs(results: Mapping[str, xr.Dataset], decided: Mapping,
          f"thesis bench puppy-contact --profile {profile}", have("model/puppy_contact")),
         ("the Puppy II's terrains across gaits, one gait held out (section 'model')",
          f"thesis bench puppy-heldout --profile {profile}", have("model/puppy_heldout")),
+        ("the fit of the Oncilla's unsourced values to the split's fitted side (section "
+         "'model')", f"thesis validate oncilla --only fit --profile {profile}",
+         have("model/fit")),
     ]
 
 

@@ -3,7 +3,8 @@ and ``convergence.nc``, :mod:`thesis.modelcheck.validation`): V1-V6 passed or fa
 their numbers, the published gaits on the model, every published optimum's foot path
 inside or outside the model's reach, the convergence table in dt and solver sweeps, and the
 knee spring's calibration to V1 (``calibration.nc``, :mod:`thesis.modelcheck.calibration`),
-and the Puppy II's recordings in dt and sweeps (``puppy_convergence.nc``,
+the fit of the unsourced values to the split's fitted side (``fit.nc``,
+:mod:`thesis.modelcheck.fit`), and the Puppy II's recordings in dt and sweeps (``puppy_convergence.nc``,
 :mod:`thesis.modelcheck.puppy_convergence`).
 
 Every number is read from the datasets; without one a table says "not run".
@@ -21,6 +22,7 @@ from thesis.report.model import NOT_RUN, Table
 VALIDATION = "model/validation"
 CONVERGENCE = "model/convergence"
 CALIBRATION = "model/calibration"
+FIT = "model/fit"
 PUPPY_CONVERGENCE = "model/puppy_convergence"
 
 
@@ -314,6 +316,55 @@ def calibration_table(results: dict) -> Table:
                  rows=rows, note=note)
 
 
+def fit_table(results: dict) -> Table:
+    """The fit of the Oncilla's unsourced values (foot plates, knee spring, drives) to the
+    fitted side of the split (Tab. 3.1a and 3.1b at 1.5 Hz): per parameter its bounds,
+    start, fit, whether it ended at a bound and whether the chapters run it; the note gives
+    the objective, each case's speed and falls at the fit and the published speeds."""
+    ds = results.get(FIT)
+    cols = ["parameter", "unit", "bounds", "start", "fit", "at a bound", "the chapters run"]
+    title = "Fit: the Oncilla's unsourced values fitted to the split's fitted side"
+    ref = "Tab. 3.1a, Tab. 3.1b, §3.3.1.2-3, §3.3.3"
+    if ds is None:
+        return Table(id="oncilla_fit", title=title, thesis_ref=ref, columns=cols,
+                     rows=[[NOT_RUN] * len(cols)])
+    side = {-1: "low", 1: "high", 0: "inside"}
+    rows = []
+    for i, name in enumerate(ds["parameter"].values):
+        held = bool(int(ds["held"][i]))
+        conf = ("—" if "configured" not in ds else fmt(float(ds["configured"][i]), 4)
+                + ("" if int(ds["configured_matches_fit"][i]) else " (not the fit)"))
+        rows.append([str(name), str(ds["parameter_unit"].values[i]),
+                     f"{fmt(float(ds['parameter_low'][i]), 3)}-"
+                     f"{fmt(float(ds['parameter_high'][i]), 3)}",
+                     fmt(float(ds["parameter_start"][i]), 4),
+                     fmt(float(ds["fit_value"][i]), 4) + (" (held)" if held else ""),
+                     "—" if held else side[int(ds["fit_at_bound"][i])], conf])
+    cases = "; ".join(
+        f"{c}: {fmt(float(ds['fit_case_speed'][j]), 3)} m/s against "
+        f"{fmt(float(ds['case_target_low'][j]), 3)}"
+        + ("" if float(ds["case_target_high"][j]) == float(ds["case_target_low"][j]) else
+           f"-{fmt(float(ds['case_target_high'][j]), 3)}")
+        + f", {int(ds['fit_case_falls'][j])} of {ds.sizes['start']} starts fell"
+        for j, c in enumerate(ds["case"].values))
+    model = (f"dt {fmt(1e3 * float(ds.attrs['dt']), 4)} ms, {ds.attrs.get('solver_iterations')} "
+             f"sweeps ({ds.attrs.get('sweep_order')})" if "dt" in ds.attrs else "the model")
+    feet = ds.attrs.get("configured_feet")
+    note = (f"Objective {fmt(float(ds['fit_objective']), 3)} (sum of squared log speed errors "
+            f"+ {ds.attrs.get('fall_penalty')} per fallen start) at evaluation "
+            f"{int(ds['fit_evaluation']) + 1} of {ds.sizes['evaluation']} "
+            f"({ds.attrs.get('design_points')} initial points, then Nelder-Mead from the best "
+            f"{ds.attrs.get('local_starts')}, at most {ds.attrs.get('local_evaluations')} "
+            f"evaluations each); {cases}. {model}, foot plates, "
+            f"{ds.attrs.get('starts')} perturbed starts per case. "
+            f"{ds.attrs.get('held_reason', '')}. These speeds are calibration targets, not "
+            "validation: claims whose thesis number they are are marked."
+            + ("" if feet in (None, "plate") else
+               f" The chapters run feet '{feet}', not the fitted plates."))
+    return Table(id="oncilla_fit", title=title, thesis_ref=ref, columns=cols, rows=rows,
+                 note=note)
+
+
 def puppy_convergence_table(results: dict) -> Table:
     """The Puppy II's recordings at dt, dt / 2 and twice the sweeps, per Tab. 5.1 cell and
     frequency."""
@@ -380,4 +431,4 @@ def tables(results: dict) -> list[Table]:
     """The validation's tables (``results`` keyed like ``"model/validation"``)."""
     return [targets_table(results), cases_table(results), reach_table(results),
             convergence_table(results), convergence_cases_table(results),
-            calibration_table(results), puppy_convergence_table(results)]
+            calibration_table(results), fit_table(results), puppy_convergence_table(results)]
