@@ -34,6 +34,12 @@ def _by_hand(ch: str, cfg: dict) -> dict:
         kw.update(momentum_restart=bool(m["restart"]))
     if ch == "ch6":
         kw.update(joint_hz=float(m["joint_hz"]), contact_hz=float(m["contact_hz"]))
+    # the drives' damping keeps their time constant; plates carry their two dimensions
+    kw.update(drive_stiffness=float(m["drive_stiffness"]),
+              drive_damping=float(m["drive_stiffness"]) / 50.0)
+    if m["feet"] == "plate":
+        kw.update(feet="plate", foot_length=float(m["foot_length"]),
+                  foot_width=float(m["foot_width"]))
     if ch == "ch4":
         t = cfg["tether"]
         kw.update(tether_rail_height=float(t["rail_height"]), tether_slack=float(t["slack"]),
@@ -79,6 +85,12 @@ def test_a_changed_key_changes_the_model():
     assert got["row_relaxation"] == 0.8 and got["momentum_restart"] is False
     model, _ = oncilla(**{**got, "sweep_order": "momentum"})
     assert model.row_relaxation == 0.8 and model.momentum_restart is False
+    drive = oncilla_kwargs({**m, "drive_stiffness": 30.0})
+    assert (drive["drive_stiffness"], drive["drive_damping"]) == (30.0, 0.6)
+    plate = oncilla_kwargs({**m, "feet": "plate", "foot_length": 0.08})
+    assert (plate["feet"], plate["foot_length"], plate["foot_width"]) == ("plate", 0.08,
+                                                                          m["foot_width"])
+    assert "foot_length" not in oncilla_kwargs({**m, "feet": "sphere", "foot_length": 0.08})
 
 
 @pytest.mark.parametrize("ch", ["ch3", "ch4", "ch6"])
@@ -99,3 +111,5 @@ def test_the_smoke_models_pin_their_step_and_rows(ch, dt):
         model = yaml.safe_load(f)[ch]["model"]
     assert model["dt"] == dt and model["row_relaxation"] is None
     assert model["sweep_order"] == "jacobi"
+    # the unfitted robot: point feet and the drives' unfitted stiffness
+    assert model["feet"] == "sphere" and model["drive_stiffness"] == 20.0

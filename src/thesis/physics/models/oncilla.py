@@ -139,8 +139,19 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   (0.3125 ms) Tab. 3.1b moves +6.9 % at 1.5 Hz (0.322 -> 0.344 m/s) and +7.3 % at 2 Hz
   (its falls 47 % -> 60 %), Tab. 4.2's flat optimum at 2.6 Hz +24 % (falls 40 % -> 90 %),
   while the half ellipse moves by at most 0.4 % at every frequency: the published splines'
-  speeds and falls have not settled at any step tried. The chapters therefore keep 2.5
-  ms / 120 blocks-first sweeps.
+  speeds and falls have not settled at any step tried. **The chapters' step and solver**
+  (``ch3/ch4/ch6.model``; ch6 at 8.2 / 13 ms, within 1 %): 0.625 ms, 20 momentum sweeps
+  (the settings above), with the foot plates. It was the finer of two plate candidates
+  fixed before ``model/convergence`` ran on them; 1.25 ms / 40 sweeps is not converged (the
+  half ellipse, converged under every step with point feet, moves 78 % at 0.5 Hz and 20 %
+  at 1 and 2.6 Hz under half of it: the plates' corner contacts need the shorter step).
+  At 0.625 ms / 20 sweeps the table is inconclusive by its 10 % rule: twice the sweeps
+  moves no case that stays up by more than 1.7 %, half the step moves them by up to 6.6 %
+  (Tab. 3.1b at 1.5 Hz, -6.6 %, 95 % interval -10.0 to -3.1 %), and the one case whose
+  fall rate moves most (Tab. 3.1b at 1 Hz, 60 % -> 87 %) stays within its sampling
+  interval. Five contacts per foot cost 1.6x the CPU of one; this step 1.35x the CPU per
+  simulated second of 2.5 ms / 120 blocks-first sweeps with plates (Tab. 3.1b at 1.5 Hz,
+  16 robots, median of 3).
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
@@ -176,8 +187,8 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
   whose fore legs rest on their extension stops in stance (``stance_knee_stop``,
   ``stance_cable_taut`` of the validation) not converged; for the chapters' solver see
   Solver above.
-* **Foot plates** (opt-in, ``feet="plate"``; default ``"sphere"``: one toe sphere per
-  foot, the model every chapter runs). The official simulation's render
+* **Foot plates** (``feet="plate"``, the chapters' feet; this function's default
+  ``"sphere"``, one toe sphere per foot, is the smoke profile's). The official simulation's render
   (docs/sources.md#oncilla-feet) shows each foot as a flat plate pointing forward, the
   shank standing on it. Measured there through the floor lattice (as the track): length
   72 +- 5 mm (62-87 mm over the four feet; 60-90 mm bounds where a fit needs it), width
@@ -266,6 +277,9 @@ TOE_BEHIND_CENTRE = 0.004
 PLATE_RADIUS = 0.003
 #: Mass of one foot plate [kg], taken from the foot segment's (a choice: no source).
 PLATE_MASS = 0.02
+#: Ratio drive_stiffness / drive_damping [1/s] of the hip and knee drives: the position
+#: servos' time constant, kept when a profile sets another stiffness (Drives).
+DRIVE_DAMPING_RATIO = 50.0
 #: Camera pixels (Wii remote IR camera, §3.2.1).
 CAMERA_PIXELS = (1024, 768)
 #: Commands per second (§3.2.2: "new commands to the robot every 10 ms").

@@ -5,8 +5,9 @@ Chapters 3, 4 and 6 (and the model's validation) configure the robot in a ``mode
 section (config/schema.yaml: ``dt``, ``solver_iterations``, ``knee_spring``,
 ``warm_start``, ``relaxation``, ``sweep_order``, ``contact_relaxation``,
 ``row_relaxation``, the momentum order's ``momentum`` and ``restart``, in ch6 the
-constraint softness ``joint_hz`` / ``contact_hz``, and in ch4 the feet: ``feet``
-(``sphere`` or ``plate``) with the plates' ``foot_length`` and ``foot_width``) and
+constraint softness ``joint_hz`` / ``contact_hz``, the feet: ``feet`` (``sphere`` or
+``plate``) with the plates' ``foot_length`` and ``foot_width``, and the drives'
+``drive_stiffness``, their damping following at ``DRIVE_DAMPING_RATIO``) and
 chapter 4 its safety thread in a ``tether`` section (§4.5). A key a section does not
 have keeps :func:`oncilla`'s default.
 """
@@ -16,7 +17,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Mapping
 
-from thesis.physics.models.oncilla import oncilla
+from thesis.physics.models.oncilla import DRIVE_DAMPING_RATIO, oncilla
 
 __all__ = ["oncilla_from_config", "oncilla_kwargs"]
 
@@ -31,7 +32,8 @@ def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:
     a ``tether`` section (``rail_height`` [m], ``slack`` [m], ``stiffness`` [N/m],
     ``damping`` [N s/m], ``width`` [m]). ``contact_relaxation`` (``row_relaxation``)
     null or absent: None (the contact rows (the other scalar rows) take ``relaxation``);
-    ``restart`` is the momentum order's ``momentum_restart``."""
+    ``restart`` is the momentum order's ``momentum_restart``; ``drive_stiffness`` [N m/rad]
+    sets ``drive_damping`` to ``drive_stiffness / DRIVE_DAMPING_RATIO`` [N m s/rad]."""
     cr = model.get("contact_relaxation")
     rr = model.get("row_relaxation")
     kw = dict(dt=float(model["dt"]), solver_iterations=int(model["solver_iterations"]),
@@ -39,6 +41,9 @@ def oncilla_kwargs(model: Mapping, tether: Mapping | None = None) -> dict:
               relaxation=float(model["relaxation"]), sweep_order=str(model["sweep_order"]),
               contact_relaxation=None if cr is None else float(cr),
               row_relaxation=None if rr is None else float(rr))
+    if "drive_stiffness" in model:  # the damping keeps the drives' time constant
+        kw["drive_stiffness"] = float(model["drive_stiffness"])
+        kw["drive_damping"] = kw["drive_stiffness"] / DRIVE_DAMPING_RATIO
     if "restart" in model:
         kw["momentum_restart"] = bool(model["restart"])
     kw.update({k: float(model[k]) for k in _OPTIONAL_FLOATS if k in model})
