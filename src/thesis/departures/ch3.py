@@ -46,7 +46,8 @@ DEPARTURES: tuple[Departure, ...] = (
             "of the values no source gives, only the knee spring, the drives' stiffness and "
             "the plates' size are fitted to results of the thesis (ch4.oncilla_fit).",
         config=("ch3.model.dt", "ch3.model.solver_iterations", "ch3.model.sweep_order",
-                "ch3.model.relaxation", "ch3.model.contact_relaxation"),
+                "ch3.model.relaxation", "ch3.model.contact_relaxation",
+                "ch3.model.row_relaxation", "ch3.model.momentum", "ch3.model.restart"),
     ),
     Departure(
         id="ch3.knee_spring_fitted", kind="choice", results=ALL,

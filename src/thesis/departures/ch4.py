@@ -46,7 +46,8 @@ DEPARTURES: tuple[Departure, ...] = (
         why="The hardware is out of reach; absolute speeds differ from the robot's, so the "
             "claims compare transfer against no transfer, not speeds against the thesis's.",
         config=("ch4.model.dt", "ch4.model.solver_iterations", "ch4.model.sweep_order",
-                "ch4.model.relaxation", "ch4.model.contact_relaxation"),
+                "ch4.model.relaxation", "ch4.model.contact_relaxation",
+                "ch4.model.row_relaxation", "ch4.model.momentum", "ch4.model.restart"),
     ),
     Departure(
         id="ch4.foot_plates", kind="choice", results=ONCILLA,

@@ -29,7 +29,8 @@ DEPARTURES: tuple[Departure, ...] = (
             "part of their starts, which is listed beside each verdict.",
         config=("ch6.model.dt", "ch6.model.solver_iterations", "ch6.model.knee_spring",
                 "ch6.model.joint_hz", "ch6.model.contact_hz", "ch6.model.sweep_order",
-                "ch6.model.relaxation", "ch6.model.contact_relaxation"),
+                "ch6.model.relaxation", "ch6.model.contact_relaxation",
+                "ch6.model.row_relaxation", "ch6.model.momentum", "ch6.model.restart"),
     ),
     Departure(
         id="ch6.teacher_gait", kind="deviation", results=ALL,

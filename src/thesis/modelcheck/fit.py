@@ -71,6 +71,7 @@ from scipy.stats import qmc
 from thesis import seeding, store
 from thesis.gaits import conditions as C
 from thesis.modelcheck import checks as M
+from thesis.modelcheck.calibration import MATCH_TOLERANCE
 from thesis.modelcheck import split as S
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
@@ -90,11 +91,6 @@ HELD = ("LEG_OFFSET",)
 AT_BOUND = 0.02
 #: ``units`` of a variable along ``parameter``: each row in its parameter's unit.
 _MIXED = "see parameter_unit"
-#: Largest |configured - fitted| / fitted for a configured value to count as the fit (the
-#: fit is written into the profiles to 4 significant digits), as the knee-spring calibration.
-MATCH_TOLERANCE = 0.01
-#: Ratio drive_stiffness / drive_damping [1/s] (split.DERIVED; the model's own).
-DAMPING_RATIO = DRIVE_DAMPING_RATIO
 
 
 def configured(model_cfg: dict, params=None) -> dict[str, float]:
@@ -288,14 +284,11 @@ def values_of(params, unit) -> dict[str, float]:
 
 def build_model(ch4: dict, values: dict):
     """(Model, State) of ``ch4.model`` with the plate feet and ``values`` (and their
-    derived values, split.DERIVED: the model places the toe on the plate itself), untethered."""
-    kw = oncilla_kwargs(ch4["model"], ch4.get("tether"))
-    kw.update(feet="plate", foot_length=float(values["foot_length"]),
-              foot_width=float(values["foot_width"]),
-              knee_spring=float(values["knee_spring"]),
-              drive_stiffness=float(values["drive_stiffness"]),
-              drive_damping=float(values["drive_stiffness"]) / DAMPING_RATIO)
-    model, state = oncilla(**kw)
+    derived values, split.DERIVED: the model places the toe on the plate itself and
+    :func:`oncilla_kwargs` the drives' damping), untethered."""
+    wired = {p.name: float(values[p.name]) for p in S.PARAMETERS if p.wired}
+    model, state = oncilla(**oncilla_kwargs({**ch4["model"], "feet": "plate", **wired},
+                                            ch4.get("tether")))
     return C.untethered(model), state
 
 
@@ -425,7 +418,7 @@ def fit(ctx, rollout: Callable | None = None) -> xr.Dataset:
                              "the fit")),
         fit_toe_offset=((), best["values"]["foot_length"] / 2 + TOE_BEHIND_CENTRE, a(
             "m", "derived: the plate's reach forward of the toe, foot_length / 2 + 4 mm")),
-        fit_drive_damping=((), best["values"]["drive_stiffness"] / DAMPING_RATIO, a(
+        fit_drive_damping=((), best["values"]["drive_stiffness"] / DRIVE_DAMPING_RATIO, a(
             "N m s rad-1", "derived: drive_stiffness / 50 s-1")),
         rollout_wall_seconds=((), wall[0], a("s", "wall time of the rollouts, compilation "
                                                   "included", **store.WALL_CLOCK)),

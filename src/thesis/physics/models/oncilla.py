@@ -1,7 +1,8 @@
 """The Oncilla quadruped of thesis ch. 3 (§3.2.1) and §4.5 on the shared engine.
 
 What the thesis and public sources fix, and what had to be chosen (every number below cites
-its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, see Knee):
+its reason, sources in docs/sources.md#oncilla; the chapters' knee spring, drive stiffness and
+foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
 
 * **Mass 5.1 kg** (Spröwitz et al. 2018, docs/sources.md#oncilla-mass). Split: each leg 0.27
   kg (femur 0.10, knee drum 0.03, tibia 0.08, foot 0.06: light segments, the motors sit in
@@ -155,7 +156,8 @@ its reason, sources in docs/sources.md#oncilla; only the knee spring is fitted, 
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
-  ``drive_stiffness`` 20 N m/rad and damping ``drive_damping`` 0.4 N m s/rad, bounded by 4 N
+  ``drive_stiffness`` 20 N m/rad (the chapters run model/fit's value) and damping
+  ``drive_damping`` = stiffness / ``DRIVE_DAMPING_RATIO`` (0.4 N m s/rad), bounded by 4 N
   m and 12 rad/s (a 2 Hz trot needs about 2 pi 2 0.5 = 6.3 rad/s at the hip). A load on the
   leg deflects the motor angle by load / stiffness, which is what the motor encoders of ch6
   read ("the rotary encoders in the motors", §6.1). liboncilla-hw configures stiffness and
