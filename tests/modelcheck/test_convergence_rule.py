@@ -147,3 +147,68 @@ def test_two_stage_replaces_the_followed_cases_only(followup, fall_upper, fall_l
     # without a follow-up the undecided case keeps the first setting inconclusive
     assert CR.two_stage(status, [0.03] * 2, [0.0] * 2, [], np.empty((2, 0))).tolist() == [
         CR.INCONCLUSIVE, CR.CONVERGED]
+
+
+def test_falls_that_cancel_over_cases_are_decided_per_case():
+    # case 0 falls 30 points more, case 1 30 points less: the rate over all runs is unchanged
+    n = 300
+    up = [0.5] * n
+    lo = [i < 0.2 * n for i in range(n)]
+    hi = [i < 0.5 * n for i in range(n)]
+    sp, fell, case, C = _runs([[up, up], [up, up]], [[lo, hi], [hi, lo]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["fall_rate_change"][0] == pytest.approx(0.0)
+    assert res["fall_rate_change_upper"][0] < 0.06  # pooled: recorded, it would hide them
+    np.testing.assert_allclose(res["case_fall_rate_change"][0], 0.3)
+    assert np.all(res["case_fall_rate_change_lower_k"][0] > CR.CASE_FALL_TOLERANCE)
+    assert res["verdict"].tolist() == [CR.NOT_CONVERGED]
+    assert res["quantities"][0] == 2 + 2  # two speeds, two cases' falls
+
+
+def test_a_case_that_never_falls_in_thirty_runs_bounds_its_fall_rate():
+    up = [0.5] * 30
+    sp, fell, case, C = _runs([[up], [up]])
+    res = CR.compare_runs(sp, fell, case, C)
+    assert res["case_fall_rate_change_upper"][0, 0] < 0.10 < CR.CASE_FALL_TOLERANCE
+    assert res["verdict"].tolist() == [CR.CONVERGED]
+    # a gait that stands in all 30 runs and falls in 18 at the refined setting moved
+    sp, fell, case, C = _runs([[up], [up]], [[[False] * 30], [[i < 18 for i in range(30)]]])
+    assert CR.compare_runs(sp, fell, case, C)["verdict"].tolist() == [CR.NOT_CONVERGED]
+
+
+def test_the_table_s_own_speed_tolerance_decides():
+    rng = np.random.default_rng(3)
+    a = list(0.50 + 0.005 * rng.normal(size=40))
+    b = list(0.53 + 0.005 * rng.normal(size=40))  # +6 %, spread 1 %
+    sp, fell, case, C = _runs([[a], [b]])
+    assert CR.compare_runs(sp, fell, case, C)["verdict"].tolist() == [CR.CONVERGED]
+    assert CR.compare_runs(sp, fell, case, C, speed_tol=0.03)["verdict"].tolist() == [
+        CR.NOT_CONVERGED]
+
+
+def test_starts_to_decide_projects_the_interval_with_the_runs():
+    z, z_k = 1.96, 2.5
+    need = CR.starts_to_decide([0.01, 0.05, 0.03, np.inf, np.nan], [0.02, 0.02, 0.01, 0.1, 0.1],
+                               30, 0.03, z, z_k)
+    assert need[0] == pytest.approx(30 * (z * 0.02 / 0.02) ** 2)   # inside: 1.96 se in 2 %
+    assert need[1] == pytest.approx(30 * (z_k * 0.02 / 0.02) ** 2)  # beyond: 2.5 se past 3 %
+    assert np.isinf(need[2]) and need[3] == 30 and np.isnan(need[4])
+    # already decided: no more runs needed than these
+    assert CR.starts_to_decide([0.0], [0.001], 30, 0.03, z, z_k)[0] == 30
+    # a noisy inconclusive case: the projection, run, decides it
+    rng = np.random.default_rng(4)
+    a, b = 0.5 + 0.05 * rng.normal(size=(2, 10))
+    b = b * 1.08
+    sp, fell, case, C = _runs([[list(a)], [list(b)]])
+    res = CR.compare_runs(sp, fell, case, C, speed_tol=0.03)
+    assert res["verdict"].tolist() == [CR.INCONCLUSIVE]
+    assert res["starts_to_decide"][0, 0] > 10
+
+
+def test_two_stage_reads_each_case_s_fall_rate():
+    status = [[CR.INSIDE, CR.INSIDE]]
+    ok = CR.two_stage(status, [0.03], [0.0], [], np.empty((1, 0)), [[0.1, 0.1]], [[0.0, 0.0]])
+    wide = CR.two_stage(status, [0.03], [0.0], [], np.empty((1, 0)), [[0.1, 0.2]], [[0.0, 0.0]])
+    far = CR.two_stage(status, [0.03], [0.0], [], np.empty((1, 0)), [[0.1, 0.6]], [[0.0, 0.2]])
+    assert (ok.tolist(), wide.tolist(), far.tolist()) == (
+        [CR.CONVERGED], [CR.INCONCLUSIVE], [CR.NOT_CONVERGED])

@@ -12,6 +12,7 @@ from types import SimpleNamespace
 import jax.numpy as jnp
 import numpy as np
 import pytest
+import xarray as xr
 
 from thesis import registry
 from thesis.config import load_config
@@ -190,7 +191,12 @@ def test_convergence_table_end_to_end_on_a_tiny_configuration():
     np.testing.assert_allclose((3 * ds["fall_rate"].values) % 1, 0, atol=1e-9)
     t = RV.convergence_table({"model/convergence": ds})
     assert len(t.rows) == 3 and t.rows[0][4] == "(reference)"
-    assert t.rows[1][6] in {"converged", "not converged", "inconclusive"}
+    assert t.rows[1][6].split(" (")[0] in {"converged", "not converged", "inconclusive"}
+    # the rule decides per case: each case's fall-rate change, at the Oncilla's 3 % speeds
+    assert ds["case_fall_rate_change"].dims == ("refined", "case")
+    assert ds["starts_to_decide"].dims == ("refined", "case")
+    assert ds.attrs["speed_tolerance"] == 0.03 and ds.attrs["case_fall_tolerance"] == 0.15
+    assert "widest" in t.rows[1][5] or ">=" in t.rows[1][5]
     assert "3 perturbed starts" in t.note and "inconclusive" in t.note
     cases = RV.convergence_cases_table({"model/convergence": ds})
     assert cases.rows[0][0] == "tab3_1a"
@@ -205,3 +211,30 @@ def test_validate_verb_refuses_what_it_cannot_do():
         cli.main(["validate", "arm4", "--profile", "smoke"])
     with pytest.raises(SystemExit, match="--output needs --only"):
         cli.main(["validate", "oncilla", "--profile", "smoke", "--output", "x.nc"])
+
+
+def test_the_convergence_table_names_the_case_whose_falls_moved_and_the_starts_to_decide():
+    from thesis.report import validation as RV
+
+    n = 200  # case 0 stands at dt and falls in half its runs at dt / 2; case 1 never falls
+    rng = np.random.default_rng(5)
+    sp = 0.3 + 0.05 * rng.normal(size=(3, 2 * n))
+    fells = np.zeros((3, 2 * n), bool)
+    fells[1, : n // 2] = True
+    case = np.repeat([0, 1], n)
+    data, verdicts = V.settings_variables(sp, fells, case, 2, [0.002, 0.001, 0.002], [20, 20, 40],
+                                          [1.0, 2.0, 2.0], speed_tol=0.03)
+    ds = xr.Dataset(data, coords=dict(setting=[s[0] for s in V.SETTINGS],
+                                      refined=[s[0] for s in V.SETTINGS[1:]], case=[0, 1],
+                                      case_gait=("case", ["tab3_1a", "tab3_1b"]),
+                                      case_frequency=("case", [1.0, 1.5])))
+    ds.attrs.update(starts=n, **V.verdict_attrs(verdicts, 0.03))
+    assert verdicts[0] == "not converged"
+    t = RV.convergence_table({"model/convergence": ds})
+    assert t.rows[1][5].startswith("tab3_1a at 1 Hz: 50.0 (>= ")
+    assert "15 points" in t.note and "3 %" in t.note
+    # five starts: the 2x-sweeps setting is undecided and says how many would decide it
+    few = V.settings_variables(sp[:, ::40], fells[:, ::40], case[::40], 2, [0.002] * 3,
+                               [20] * 3, [1.0] * 3, speed_tol=0.03)[0]
+    need = few["starts_to_decide"][1]
+    assert np.all(np.isfinite(need[1])) and np.all(need[1] > 5)

@@ -104,9 +104,14 @@ def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
     ds = results.get(key)
     if ds is None or "verdict" not in ds:
         return None
+    def falls(r) -> str:
+        if "case_fall_rate_change" in ds:  # the rule decides each case's fall rate
+            return (f"largest case fall-rate change "
+                    f"{100 * float(ds['case_fall_rate_change'].sel(refined=r).max()):.1f} points")
+        return f"fall rate {100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points"
+
     text = "; ".join(
-        f"{r}: {ds['verdict'].sel(refined=r).values} (fall rate "
-        f"{100 * float(ds['fall_rate_change'].sel(refined=r)):.1f} points, largest speed "
+        f"{r}: {ds['verdict'].sel(refined=r).values} ({falls(r)}, largest speed "
         f"change {100 * float(ds['max_speed_change'].sel(refined=r)):.0f} %)"
         for r in ds["refined"].values)
     verdict = CR.overall(ds["verdict"].values)

@@ -203,7 +203,9 @@ def convergence(ctx) -> xr.Dataset:
     if ran:
         fu = _followup(ctx, ch5, pc, cells, followed)
         verdicts = CR.two_stage(status, data["fall_rate_change_upper"][1],
-                                data["fall_rate_change_lower_k"][1], followed, fu["status"])
+                                data["fall_rate_change_lower_k"][1], followed, fu["status"],
+                                data["case_fall_rate_change_upper"][1],
+                                data["case_fall_rate_change_lower_k"][1])
         data.update(_followup_variables(fu, followed))
         change = np.array(data["speed_change"][1], float)
         change[:, followed] = fu["speed_change"]

@@ -142,13 +142,20 @@ def _pct(x, digits: int = 0) -> str:
 def _rule_note(ds, runs: str) -> str:
     """The three-valued rule of a convergence table, with its tolerances and level."""
     a = ds.attrs
-    return (f"Converged when every {runs}'s speed change and the fall-rate change have their "
-            f"{100 * (1 - float(a.get('alpha', np.nan))):.0f} % intervals within "
-            f"{_pct(a.get('speed_tolerance', np.nan))} % and "
-            f"{_pct(a.get('fall_tolerance', np.nan))} points (and no {runs} walks at one "
-            "setting and falls at the other); not converged when one quantity's "
-            "Bonferroni interval lies wholly beyond its tolerance; otherwise inconclusive "
-            "(thesis.modelcheck.convergence_rule). Intervals over the runs' sampling spread; "
+    level = f"{100 * (1 - float(a.get('alpha', np.nan))):.0f} %"
+    if "case_fall_tolerance" in a:
+        falls = (f"every {runs}'s fall-rate change within "
+                 f"{_pct(a['case_fall_tolerance'])} points (the change over all runs is "
+                 f"shown against {_pct(a.get('fall_tolerance', np.nan))} points, not decided)")
+    else:
+        falls = (f"the fall-rate change over all runs within "
+                 f"{_pct(a.get('fall_tolerance', np.nan))} points")
+    return (f"Converged when every {runs}'s speed change has its {level} interval within "
+            f"{_pct(a.get('speed_tolerance', np.nan))} % and {falls} (and no {runs} walks at "
+            "one setting and falls at the other); not converged when one quantity's "
+            "Bonferroni interval lies wholly beyond its tolerance; otherwise inconclusive, "
+            f"with the starts per {runs} that would decide it (thesis.modelcheck."
+            "convergence_rule). Intervals over the runs' sampling spread; "
             f"a speed needs {a.get('min_up_runs', '?')} runs that stayed up.")
 
 
@@ -182,9 +189,30 @@ def _verdict_cells(r, tol: float) -> list[str]:
     moved = int(np.isinf(ch).sum())
     if moved:
         speed += f"; {moved} case(s) up at one setting only"
-    fall = (f"{_pct(r['fall_rate_change'], 1)} (<= {_pct(r['fall_rate_change_upper'], 1)}, "
-            f">= {_pct(r['fall_rate_change_lower_k'], 1)})")
-    return [speed, fall, str(r["verdict"].values)]
+    pooled = (f"{_pct(r['fall_rate_change'], 1)} (<= {_pct(r['fall_rate_change_upper'], 1)}, "
+              f">= {_pct(r['fall_rate_change_lower_k'], 1)})")
+    verdict = str(r["verdict"].values)
+    if "case_fall_rate_change" not in r:
+        return [speed, pooled, verdict]
+    cf = np.asarray(r["case_fall_rate_change"].values, float)
+    cup = np.asarray(r["case_fall_rate_change_upper"].values, float)
+    clo = np.asarray(r["case_fall_rate_change_lower_k"].values, float)
+    ctol = float(r.attrs.get("case_fall_tolerance", np.inf))
+    far = [i for i in np.argsort(-clo) if clo[i] > ctol]
+    if far:
+        fall = "; ".join(f"{_case_name(r, i)}: {_pct(cf[i], 1)} (>= {_pct(clo[i], 1)})"
+                         for i in far)
+    else:
+        i = int(np.nanargmax(cup))
+        fall = (f"none beyond; widest: {_case_name(r, i)}, {_pct(cf[i], 1)} "
+                f"(<= {_pct(cup[i], 1)})")
+    fall += f"; over all runs {pooled}"
+    if verdict == "inconclusive" and "starts_to_decide" in r:
+        need = np.asarray(r["starts_to_decide"].values, float)
+        need = need[np.isfinite(need)]
+        if need.size:
+            verdict += f" (about {int(np.ceil(need.max()))} starts per case would decide it)"
+    return [speed, fall, verdict]
 
 
 def convergence_table(results: dict) -> Table:
@@ -193,7 +221,8 @@ def convergence_table(results: dict) -> Table:
     ds = results.get(CONVERGENCE)
     cols = ["setting", "dt [ms]", "sweeps", "fall rate",
             "speed changes beyond the tolerance (Bonferroni lower end)",
-            "fall-rate change [points] (interval ends)", "verdict"]
+            "fall-rate changes [points] per case beyond the tolerance (interval ends)",
+            "verdict"]
     if ds is None:
         return Table(id="oncilla_convergence", title="Convergence in the time step and sweeps",
                      thesis_ref="—", columns=cols, rows=[[NOT_RUN] * len(cols)])
