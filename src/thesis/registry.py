@@ -22,6 +22,7 @@ EXPERIMENTS: dict[str, str] = {
     "ch2/train_step": "thesis.ch2.train_bench:train_step",
     "ch2/width_pilot": "thesis.ch2.width_pilot:width_pilot",
     # ch3: Oncilla gaits and turning
+    "ch3/table3_1_part": "thesis.ch3.experiments:table3_1_part",
     "ch3/table3_1": "thesis.ch3.experiments:table3_1",
     "ch3/fig3_4": "thesis.ch3.experiments:fig3_4",
     "ch3/robustness": "thesis.ch3.experiments:robustness",

@@ -1,7 +1,8 @@
 """Experiment functions of chapter 3 (registered in :mod:`thesis.registry`).
 
 ``table3_1`` optimises the three trot families with PSO (§3.3.1; the sine gait, tuned by
-hand in the thesis, is optimised with the same PSO here) and stores the optimum per seed;
+hand in the thesis, is optimised with the same PSO here) and stores the optimum per seed
+(the pipeline runs each seed as a job of its own, ``table3_1_part``, and joins them);
 ``fig3_4``, ``robustness``, ``table3_2`` and ``fig3_5`` read those optima (input
 ``table3_1``). Dataset layouts are those of :mod:`thesis.claims.ch3`. Every size comes
 from the ``ch3`` config section; simulated robot time is recorded so profiles can be
@@ -152,7 +153,47 @@ def optimise(cfg, seed: int, root_seed: int, log=None, timing=None):
 
 
 def table3_1(ctx) -> xr.Dataset:
-    """Tab. 3.1: PSO-optimised parameters of every trot family, per seed (§3.3.1)."""
+    """Tab. 3.1: PSO-optimised parameters of every trot family, per seed (§3.3.1).
+
+    Inputs: ``part_seed<s>`` for every seed of ``ch3.seeds`` (each a :func:`table3_1_part`
+    of that one seed, one job each), joined along ``seed``; without inputs every seed is
+    optimised here, one after another. A seed's optimum is the same either way: its swarm's
+    stream (``ch3/table3_1/<gait>`` of the seed) and its evaluations involve no other seed.
+    Layout: :func:`table3_1_part` over every seed.
+    """
+    seeds = [int(s) for s in ctx.config["seeds"]]
+    if not any(name.startswith("part_seed") for name in ctx.inputs):
+        return table3_1_part(ctx)
+    parts = []
+    for s in seeds:
+        with xr.open_dataset(ctx.input(f"part_seed{s}"), engine="h5netcdf") as f:
+            part = f.load()
+        if [int(x) for x in part["seed"].values] != [s]:
+            raise ValueError(f"ch3/table3_1: input part_seed{s} holds seeds "
+                             f"{part['seed'].values.tolist()}, not [{s}]")
+        parts.append(part)
+    # the simulation rate is each job's own wall clock: their robot-seconds over their time
+    rate = [float(p["robot_seconds_per_wall_second"]) for p in parts]
+    rate_attrs = dict(parts[0]["robot_seconds_per_wall_second"].attrs)
+    ds = xr.concat([p.drop_vars("robot_seconds_per_wall_second") for p in parts], dim="seed",
+                   data_vars="minimal", coords="minimal", compat="equals",
+                   combine_attrs="override")
+    ds["robot_seconds_per_wall_second"] = ((), float(np.nanmedian(rate)), dict(
+        rate_attrs, long_name=rate_attrs.get("long_name", "") + " (median over the seeds' "
+                                                                "jobs)"))
+    ds.attrs["seeds"] = seeds
+    return ds
+
+
+def table3_1_part(ctx) -> xr.Dataset:
+    """Tab. 3.1 for the seeds of ``ch3.seeds`` (the pipeline runs one seed per job): every
+    trot family's PSO optimum, best fitness per generation, falls and unphysical
+    evaluations (§3.3.1).
+
+    Variables: value (gait, parameter, seed) [the parameter's unit], best_fitness (gait,
+    seed, generation), fallen (gait, seed, generation, particle), n_exploded (gait, seed),
+    parameter_unit (parameter), robot_seconds_per_wall_second (wall clock).
+    """
     cfg = ctx.config
     seeds = list(cfg["seeds"])
     names = []
