@@ -127,7 +127,7 @@ def test_followup_reruns_only_the_undecided_cells(monkeypatch):
     calls = []
     monkeypatch.setattr(PC.R, "generate", _fake_generate(calls))
     config = load_config("smoke", overrides={"physics": {"puppy_convergence": dict(
-        samples=20, trials_per_cell=20, followup_trials=40)}})
+        samples=20, trials_per_cell=20, followup_trials=40, speed_tolerance=0.10)}})
     ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
                           key="model/puppy_convergence", log=logging.getLogger("test"))
     ds = PC.convergence(ctx)
@@ -150,3 +150,9 @@ def test_followup_reruns_only_the_undecided_cells(monkeypatch):
     t = RV.puppy_convergence_table({"model/puppy_convergence": ds})
     assert "Follow-up stage" in t.note
     assert any("40 pairs" in str(cell) for row in t.rows for cell in row)
+    # at the schema's 3 % the same paired 4 % change is beyond the tolerance
+    strict = load_config("smoke", overrides={"physics": {"puppy_convergence": dict(
+        samples=20, trials_per_cell=20, followup_trials=40)}})
+    assert strict["physics"]["puppy_convergence"]["speed_tolerance"] == 0.03
+    ds = PC.convergence(SimpleNamespace(**{**vars(ctx), "full_config": strict}))
+    assert ds["verdict"].values.tolist() == [CR.NOT_CONVERGED, CR.CONVERGED]

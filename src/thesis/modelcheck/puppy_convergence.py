@@ -19,9 +19,10 @@ signals chapter 5 classifies on; their mean is the robot's weight at any setting
 fluctuation is what the contact physics shapes). Per case: the speed over the trials that
 stayed up, the fall rate and the paw-force fluctuation. The verdict is the Oncilla's
 (:func:`thesis.modelcheck.convergence_rule.compare_runs`, a case's trials as its runs):
-every case's speed moves by at most 10 % and the fall rate by at most 5 points against the
-chapter's own setting, decided three-valued on intervals over the case's trials (a speed
-needs 3 trials that stayed up). A case is one frequency, so a speed's spread is the
+every case's speed moves by at most ``physics.puppy_convergence.speed_tolerance`` (3 %, the
+Oncilla's) and each case's fall rate by at most 15 points against the chapter's own setting,
+decided three-valued on intervals over the case's trials (a speed needs 3 trials that stayed
+up). A case is one frequency, so a speed's spread is the
 trials' own, not the difference between frequencies. The paw forces are recorded beside
 it, not decided.
 
@@ -123,15 +124,16 @@ def _followup(ctx, ch5: dict, pc: dict, cells: list, followed) -> dict:
         speeds.append(trial_speeds(recs, rate))
         fells.append(recs.length < np.asarray(info["planned_length"]))
         walls.append(float(info["wall_seconds"]))
-    res = CR.paired_followup(np.asarray(speeds), np.asarray(fells), case, len(names))
+    res = CR.paired_followup(np.asarray(speeds), np.asarray(fells), case, len(names),
+                             speed_tol=float(pc["speed_tolerance"]))
     falls = np.array([[f[case == c].mean() for c in range(len(names))] for f in fells])
     return dict(res, fall_rate=falls, walls=np.asarray(walls),
                 trials=np.bincount(case, minlength=len(names)))
 
 
-def _stage1_status(data: dict) -> np.ndarray:
+def _stage1_status(data: dict, speed_tol: float) -> np.ndarray:
     """(G-1, C) each case's status in the table (:func:`convergence_rule.case_status`)."""
-    return np.array([CR.case_status(c, u, lo) for c, u, lo in zip(
+    return np.array([CR.case_status(c, u, lo, speed_tol=speed_tol) for c, u, lo in zip(
         data["speed_change"][1], data["speed_change_upper"][1],
         data["speed_change_lower_k"][1])])
 
@@ -193,10 +195,11 @@ def convergence(ctx) -> xr.Dataset:
         dts.append(float(cfg["model"]["dt"]))
         sweeps.append(int(cfg["model"]["solver_iterations"]))
     touch = np.asarray(touch)
+    tol = float(pc["speed_tolerance"])
     data, verdicts = V.settings_variables(np.asarray(speeds), np.asarray(fells), case,
-                                          len(cells), dts, sweeps, walls)
+                                          len(cells), dts, sweeps, walls, speed_tol=tol)
     stage1 = np.asarray(verdicts)
-    status = _stage1_status(data)
+    status = _stage1_status(data, tol)
     followed = np.flatnonzero((status != CR.INSIDE).any(axis=0))
     ran = (CR.overall(stage1) == CR.INCONCLUSIVE and int(pc["followup_trials"]) > 0
            and followed.size > 0)
@@ -243,5 +246,5 @@ def convergence(ctx) -> xr.Dataset:
         thesis_ref="§5.3.1, Tab. 5.1 (the recordings of chapter 5)",
         seeds=[int(ctx.root_seed)], samples=int(pc["samples"]),
         trials_per_cell=int(pc["trials_per_cell"]), followup_trials=int(pc["followup_trials"]),
-        followup_ran=int(ran), **V.verdict_attrs(verdicts))
+        followup_ran=int(ran), **V.verdict_attrs(verdicts, tol))
     return ds
