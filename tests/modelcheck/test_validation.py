@@ -197,6 +197,14 @@ def test_convergence_table_end_to_end_on_a_tiny_configuration():
     assert ds["starts_to_decide"].dims == ("refined", "case")
     assert ds.attrs["speed_tolerance"] == 0.03 and ds.attrs["case_fall_tolerance"] == 0.15
     assert "widest" in t.rows[1][5] or ">=" in t.rows[1][5]
+    # V1-V6 at every setting, on the validation's starts
+    assert ds["target_passed"].dims == ("setting", "target") and ds.attrs["target_starts"] == min(
+        config["physics"]["oncilla_validation"]["starts"], 3)
+    assert list(ds["target"].values) == ["V1", "V2", "V3", "V4", "V5", "V6"]
+    for row, s in zip(t.rows, ds["setting"].values):
+        failed = [str(x) for x, p in zip(ds["target"].values,
+                                         ds["target_passed"].sel(setting=s).values) if not p]
+        assert row[-1] == (", ".join(failed) or "none")
     assert "3 perturbed starts" in t.note and "inconclusive" in t.note
     cases = RV.convergence_cases_table({"model/convergence": ds})
     assert cases.rows[0][0] == "tab3_1a"

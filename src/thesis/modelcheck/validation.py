@@ -34,7 +34,8 @@ Each case's speed over its runs that stayed up must move by at most
 no more) and each case's fall rate by at most 15 percentage points, decided per case and three-valued on intervals that carry the starts'
 sampling spread (:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
 inconclusive, with the starts per case that would decide each undecided case. Beside them, each setting records the legs' stance on the stops, so that the
-table shows whether the cases that move are those whose legs the stop rows carry.
+table shows whether the cases that move are those whose legs the stop rows carry, and V1-V6
+decided on its first ``starts`` starts (the validation's instrument at each setting).
 """
 
 from __future__ import annotations
@@ -319,6 +320,25 @@ def _unit_of(key: str) -> str:
     return "1"
 
 
+def decide_targets(cs: list[dict], m: dict, starts: int | None = None):
+    """V1-V6 (:func:`thesis.modelcheck.targets.decide`) from the measurements ``m`` of
+    :func:`measure_cases` on the cases ``cs`` (every one a flat-ground published gait),
+    over their first ``starts`` starts (None: all).
+
+    Returns:
+        (speed, theory, decided): {(gait, frequency): speed [m/s]}, the families'
+        theoretical speeds [m/s] and the targets' verdicts.
+    """
+    n = slice(None) if starts is None else slice(0, int(starts))
+    m = {k: np.asarray(m[k])[:, n] for k in ("speed", "fallen", "scapula_max_dev")}
+    speed, theory = _case_speeds(cs, m)
+    dev_deg = math.degrees(float(np.nanmax(m["scapula_max_dev"]))) \
+        if np.isfinite(m["scapula_max_dev"]).any() else float("nan")
+    decided = TG.decide(speed, theory, int(m["fallen"].sum()), int(m["fallen"].size),
+                        dev_deg)
+    return speed, theory, decided
+
+
 def validation(ctx) -> xr.Dataset:
     """``thesis validate oncilla``: the published gaits on the model and V1-V6 (module
     docstring; Tab. 3.1, Fig. 3.4, §3.3.1, Tab. 4.2)."""
@@ -330,12 +350,7 @@ def validation(ctx) -> xr.Dataset:
                       fall_height=fall_height, batch=int(cfg["batch"]))
     ctx.log.info("oncilla validation: %d cases x %d starts in %.1f s", len(cs), len(kicks),
                  m["wall"])
-    speed, theory = _case_speeds(cs, m)
-    flat = np.array([True for _ in cs])  # every case is a flat-ground published gait
-    falls = int(m["fallen"][flat].sum())
-    dev_deg = math.degrees(float(np.nanmax(m["scapula_max_dev"]))) \
-        if np.isfinite(m["scapula_max_dev"]).any() else float("nan")
-    decided = TG.decide(speed, theory, falls, int(m["fallen"].size), dev_deg)
+    speed, theory, decided = decide_targets(cs, m)
     ds = dataset(cs, kicks, m, speed, theory, decided)
     ds.attrs.update(
         title="Validation of the simulated Oncilla on the thesis's published gaits",
@@ -523,19 +538,22 @@ def verdict_attrs(verdicts, speed_tol: float = CR.SPEED_TOLERANCE) -> dict:
 def convergence(ctx) -> xr.Dataset:
     """``model/convergence``: the validation quantities at dt, dt / 2 and dt with twice the
     sweeps, and whether each case's speed moves <= ``convergence_speed_tolerance`` (3 %)
-    and its fall rate <= 15 points, decided three-valued (module
-    docstring)."""
+    and its fall rate <= 15 points, decided three-valued (module docstring); V1-V6
+    decided at each setting on the validation's starts (``target_passed``, ``target_text``
+    over setting x target)."""
     full, cfg, settle, fall_height = _setup(ctx)
     cs = cases(cfg)
     kicks = start_kicks(ctx.root_seed, cfg["convergence_starts"], cfg["start_velocity"])
-    speeds, fells, scap, walls, dts, sweeps = [], [], [], [], [], []
+    speeds, fells, scap, walls, dts, sweeps, targets = [], [], [], [], [], [], []
     stops = {k: [] for k in STOPS}
+    n_val = min(int(cfg["starts"]), len(kicks))
     for name, fdt, fsw in SETTINGS:
         model, state = _model(full["ch4"], fdt, fsw)
         m = measure_cases(model, state, cs, kicks, settle=settle,
                           seconds=float(cfg["seconds"]), fall_height=fall_height,
                           batch=int(cfg["batch"]))
         ctx.log.info("convergence %s: %d runs in %.1f s", name, m["speed"].size, m["wall"])
+        targets.append(decide_targets(cs, m, n_val)[2])
         speeds.append(m["speed"].ravel())
         fells.append(m["fallen"].ravel())
         with warnings.catch_warnings():  # a case whose every start fell: NaN
@@ -555,8 +573,15 @@ def convergence(ctx) -> xr.Dataset:
     data.update(_stop_variables(("setting", "case", "leg"), stops,
                                 "mean over the starts of the share of the leg's stance "
                                 "samples while up"))
+    data["target_passed"] = (("setting", "target"), np.array(
+        [[d[t]["passed"] for t in TG.TARGETS] for d in targets], np.int8), _a(
+        "1", f"1 if the validation target passed at the setting (V1-V6 on the first {n_val} "
+             "starts of every case, the validation's own)"))
+    data["target_text"] = (("setting", "target"), np.array(
+        [[d[t]["text"] for t in TG.TARGETS] for d in targets]), _a(
+        "1", "the target's numbers beside its bounds at the setting"))
     coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
-                  case=np.arange(len(cs)), leg=list(L.LEGS),
+                  case=np.arange(len(cs)), leg=list(L.LEGS), target=list(TG.TARGETS),
                   case_gait=("case", [c["gait"] for c in cs]),
                   case_frequency=("case", np.array([c["frequency"] for c in cs])))
     ds = xr.Dataset(data, coords=coords)
@@ -566,6 +591,6 @@ def convergence(ctx) -> xr.Dataset:
         title="Convergence of the simulated Oncilla's validation quantities in dt and sweeps",
         thesis_ref="Tab. 3.1, Fig. 3.4, Tab. 4.2 (the published gaits of the validation)",
         seeds=[int(ctx.root_seed)], settle=settle, seconds=float(cfg["seconds"]),
-        fall_height=fall_height, starts=len(kicks),
+        fall_height=fall_height, starts=len(kicks), target_starts=n_val,
         model_code_sha256=M.model_code_sha256(), **verdict_attrs(verdicts, tol))
     return ds
