@@ -1,6 +1,7 @@
 """The three-valued verdict of a convergence table (docs/architecture.md#engine-rules):
 does refining the time step or the solver sweeps move the validation quantities by more
-than their tolerance (speeds :data:`SPEED_TOLERANCE`, fall rate :data:`FALL_TOLERANCE`)?
+than their tolerance (each case's speed: the table's ``speed_tol``, default
+:data:`SPEED_TOLERANCE`; each case's fall rate: :data:`CASE_FALL_TOLERANCE`)?
 
 A convergence table runs the same runs (cases x starts, or Tab. 5.1 cells x trials) at a
 reference setting and at refined ones. On a gait that sometimes falls, whether a run falls
@@ -38,8 +39,9 @@ convergence). The rule, fixed before the runs it decides:
 * **Converged**: every case whose speed is defined at both settings has its two-sided
   ``1 - ALPHA`` interval of ``r`` inside ``+- speed_tol`` (:data:`SPEED_TOLERANCE`
   unless the table sets its own), every case's interval of ``d_c`` inside ``+-
-  CASE_FALL_TOLERANCE``, and no case has a speed at one setting only. All must hold, so no correction for
-  multiplicity is needed (intersection-union test at level ``ALPHA``).
+  CASE_FALL_TOLERANCE``, and no case has a speed at one setting only. All must hold,
+  so no correction for multiplicity is needed (intersection-union test at level
+  ``ALPHA``).
 * **Not converged**: some quantity's interval at ``1 - ALPHA / k`` (Bonferroni over the
   ``k`` quantities tested: the cases with a speed at both settings and every case's fall
   rate) lies wholly beyond its tolerance.
@@ -59,7 +61,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-#: Largest relative change of a case's speed between the settings.
+#: Largest relative change of a case's speed between the settings, where a table sets no
+#: tolerance of its own (the Oncilla's and the Puppy II's set 3 % from their config).
 SPEED_TOLERANCE = 0.10
 #: Largest change of the fall rate over all runs [fraction] between the settings.
 FALL_TOLERANCE = 0.05
