@@ -31,11 +31,13 @@ model's dt, at dt / 2, and at dt with twice the solver sweeps (the physical soft
 :mod:`thesis.physics.builder` does not change with dt, so the three simulate one robot).
 Each case's speed over its runs that stayed up must move by at most
 ``convergence_speed_tolerance`` (3 %: a step that has converged moves a gait that stays up by
-no more) and each case's fall rate by at most 15 percentage points, decided per case and three-valued on intervals that carry the starts'
-sampling spread (:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or
-inconclusive, with the starts per case that would decide each undecided case. Beside them, each setting records the legs' stance on the stops, so that the
-table shows whether the cases that move are those whose legs the stop rows carry, and V1-V6
-decided on its first ``starts`` starts (the validation's instrument at each setting).
+no more) and each case's fall rate by at most 15 percentage points, decided per case and
+three-valued on intervals that carry the starts' sampling spread
+(:mod:`thesis.modelcheck.convergence_rule`): converged, not converged or inconclusive, with
+the starts per case that would decide each undecided case. Beside them, each setting records
+the legs' stance on the stops, so that the table shows whether the cases that move are those
+whose legs the stop rows carry, and V1-V6 decided on its first ``starts`` starts (the
+validation's instrument at each setting).
 """
 
 from __future__ import annotations
