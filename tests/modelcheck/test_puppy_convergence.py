@@ -1,7 +1,8 @@
 """The Puppy II's convergence table (thesis.modelcheck.puppy_convergence, ``thesis validate
-puppy``): its per-trial measurements on recordings whose answer is known, and the table end
-to end on tiny trials. No test asserts whether the current model converges (that is what
-the table reports)."""
+puppy``): its per-trial measurements and its follow-up stage on recordings whose answer is
+known. The table's layout on real recordings is checked on the smoke pipeline's result
+(``tests/pipeline/layouts_model.py``). No test asserts whether the current model converges
+(that is what the table reports)."""
 
 from __future__ import annotations
 
@@ -11,11 +12,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from thesis import registry, seeding
+from thesis import seeding
 from thesis.config import load_config
 from thesis.modelcheck import convergence_rule as CR
 from thesis.modelcheck import puppy_convergence as PC
-from thesis.modelcheck import validation as V
 from thesis.report import validation as RV
 from thesis.ch5 import gaits as G
 from thesis.ch5 import recordings as R
@@ -46,49 +46,6 @@ def test_trial_speed_is_the_camera_displacement_over_the_trial_duration():
     assert sp[0] == pytest.approx(5.0 / 5.0, rel=1e-6)  # 5 m in 250 / 50 = 5 s
     assert sp[1] == 0.0 and np.isnan(sp[2])
     np.testing.assert_allclose(PC.touch_fluctuation(recs)[:2], [0.5, 0.0], atol=1e-4)
-
-
-@pytest.fixture(scope="module")
-def tiny():
-    # 30 sweeps instead of the chapter's 120: the table's layout and bookkeeping do not
-    # depend on them, and the three settings cost a quarter as much.
-    # No follow-up here (one trial leaves every cell undecided, so it would run all of them
-    # again): test_followup_reruns_only_the_undecided_cells covers it, the smoke pipeline runs it.
-    config = load_config("smoke", overrides={
-        "physics": {"puppy_convergence": dict(samples=40, followup_trials=0)},
-        "ch5": {"model": dict(solver_iterations=30)}})
-    ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
-                          key="model/puppy_convergence", log=logging.getLogger("test"))
-    return PC.convergence(ctx), config
-
-
-def test_convergence_runs_the_three_settings_on_every_tab5_1_cell(tiny):
-    ds, config = tiny
-    assert registry.resolve("model/puppy_convergence") is PC.convergence
-    assert list(ds["setting"].values) == [s[0] for s in V.SETTINGS]
-    cells = {(g, t, f) for (g, t), counts in R.TAB5_1.items()
-             for f, n in zip(R.FREQUENCIES, counts) if n}
-    assert {(str(g), str(t), float(f)) for g, t, f in zip(
-        ds["case_gait"].values, ds["case_terrain"].values, ds["case_frequency"].values)} \
-        == cells and ds.sizes["case"] == len(cells)
-    # every case ran exactly trials_per_cell replicate trials (Tab. 5.1's 1-13 lifted)
-    assert ds.attrs["trials_per_cell"] == config["physics"]["puppy_convergence"][
-        "trials_per_cell"]
-    k = ds.attrs["trials_per_cell"]
-    np.testing.assert_allclose((k * ds["fall_rate"].values) % 1, 0, atol=1e-9)
-    m = config["ch5"]["model"]
-    np.testing.assert_allclose(ds["dt"].values, [m["dt"], m["dt"] / 2, m["dt"]])
-    assert ds["solver_iterations"].values.tolist() == [m["solver_iterations"]] * 2 \
-        + [2 * m["solver_iterations"]]
-    for name in ("case_speed", "case_speed_se", "fall_rate", "touch_std", "speed_change",
-                 "speed_change_upper", "max_speed_change", "fall_rate_change", "verdict",
-                 "touch_change"):
-        assert name in ds and "units" in ds[name].attrs, name
-    assert set(ds["verdict"].values) <= {"converged", "not converged", "inconclusive"}
-    assert ds.attrs["verdict"] in {"converged", "not converged", "inconclusive"}
-    t = RV.puppy_convergence_table({"model/puppy_convergence": ds})
-    assert len(t.rows) == len(cells) and "converged" in t.note
-    assert RV.puppy_convergence_table({}).rows == [[RV.NOT_RUN]]
 
 
 def _fake_generate(calls):

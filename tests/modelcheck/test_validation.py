@@ -174,44 +174,6 @@ def test_settings_variables_carry_the_rule_s_verdict_and_intervals():
     assert V.verdict_attrs(["converged", "inconclusive"])["verdict"] == "inconclusive"
 
 
-def test_convergence_table_end_to_end_on_a_tiny_configuration():
-    from thesis.report import validation as RV
-
-    config = load_config("smoke", overrides={"physics": {"oncilla_validation": dict(
-        frequencies=[1.5], convergence_starts=3, seconds=0.3, batch=8)}})
-    ctx = SimpleNamespace(full_config=config, root_seed=int(config["root_seed"]),
-                          key="model/convergence", log=logging.getLogger("test"))
-    ds = V.convergence(ctx)
-    n_cases = len(V.cases({"frequencies": [1.5]}))
-    assert ds.sizes["case"] == n_cases and ds.attrs["starts"] == 3
-    assert list(ds["refined"].values) == ["dt/2", "2x sweeps"]
-    assert set(ds["verdict"].values) <= {"converged", "not converged", "inconclusive"}
-    assert ds.attrs["verdict"] == V.verdict_attrs(ds["verdict"].values)["verdict"]
-    # the fall rates are the runs' own: each case's rate is a multiple of 1/3
-    np.testing.assert_allclose((3 * ds["fall_rate"].values) % 1, 0, atol=1e-9)
-    t = RV.convergence_table({"model/convergence": ds})
-    assert len(t.rows) == 3 and t.rows[0][4] == "(reference)"
-    assert t.rows[1][6].split(" (")[0] in {"converged", "not converged", "inconclusive"}
-    # the rule decides per case: each case's fall-rate change, at the Oncilla's 3 % speeds
-    assert ds["case_fall_rate_change"].dims == ("refined", "case")
-    assert ds["starts_to_decide"].dims == ("refined", "case")
-    assert ds.attrs["speed_tolerance"] == 0.03 and ds.attrs["case_fall_tolerance"] == 0.15
-    assert "widest" in t.rows[1][5] or ">=" in t.rows[1][5]
-    # V1-V6 at every setting, on the validation's starts
-    assert ds["target_passed"].dims == ("setting", "target") and ds.attrs["target_starts"] == min(
-        config["physics"]["oncilla_validation"]["starts"], 3)
-    assert list(ds["target"].values) == ["V1", "V2", "V3", "V4", "V5", "V6"]
-    for row, s in zip(t.rows, ds["setting"].values):
-        failed = [str(x) for x, p in zip(ds["target"].values,
-                                         ds["target_passed"].sel(setting=s).values) if not p]
-        assert row[-1] == (", ".join(failed) or "none")
-    assert "3 perturbed starts" in t.note and "inconclusive" in t.note
-    cases = RV.convergence_cases_table({"model/convergence": ds})
-    assert cases.rows[0][0] == "tab3_1a"
-    assert ds["stance_cable_taut"].dims == ("setting", "case", "leg")
-    assert cases.rows[0][-1].startswith("knee stop ") and "cable taut" in cases.rows[0][-1]
-
-
 def test_validate_verb_refuses_what_it_cannot_do():
     from thesis import cli
 

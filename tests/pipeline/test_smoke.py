@@ -22,7 +22,7 @@ from thesis.config import load_config
 from thesis.report.chapters import CHAPTERS
 
 from ..ch2_chance import better_than_chance
-from . import layouts_ch2, layouts_ch3, layouts_ch7, layouts_coopt
+from . import layouts_ch2, layouts_ch3, layouts_ch7, layouts_coopt, layouts_model
 from .conftest import ROOT, snakemake
 
 pytestmark = pytest.mark.pipeline
@@ -79,7 +79,7 @@ def test_smoke_ch2_models_learn(smoke_run):
 
 
 LAYOUTS = {**layouts_ch2.CHECKS, **layouts_ch3.CHECKS, **layouts_ch7.CHECKS,
-           **layouts_coopt.CHECKS}
+           **layouts_coopt.CHECKS, **layouts_model.CHECKS}
 
 
 @pytest.mark.parametrize("key", sorted(LAYOUTS))
