@@ -54,12 +54,15 @@ fitted to a result of the thesis.
   terrain (the chapter's terrain code sets the floor material, forward coefficient
   included); this file builds the robot on a plain default floor (friction 0.6).
 * **Bumpers**: four 10 mm contact spheres at the trunk's lower corners catch a fall.
-* **Solver**: dt 5 ms (4 physics steps per 20 ms sample of the 50 Hz recordings),
-  120 block-Jacobi sweeps with relaxation 0.3 (the relaxation the Oncilla needed for
-  its light legs under a heavy trunk, thesis.physics.models.oncilla). 120 sweeps are
-  the fewest of 30, 60 and 120 at which the convergence table (``thesis validate
-  puppy``: the chapter's recordings at dt / 2 and with twice the sweeps, 20 trials per
-  Tab. 5.1 cell) finds no cell whose speed moved beyond its 10 % tolerance: at 30 and 60
+* **Solver**: the builder's dt 5 ms (4 physics steps per 20 ms sample of the 50 Hz
+  recordings); chapter 5 runs ``ch5.model.dt``, 2.5 ms, because at 5 ms the convergence
+  table (``thesis validate puppy``: the chapter's recordings at dt / 2 and with twice the
+  sweeps, 20 trials per Tab. 5.1 cell) found cells whose speed moved beyond its 3 %
+  tolerance under dt / 2. 120 block-Jacobi sweeps with relaxation 0.3 (the relaxation
+  the Oncilla needed for its light legs under a heavy trunk,
+  thesis.physics.models.oncilla). 120 sweeps are the fewest of 30, 60 and 120 at which
+  that table, at 5 ms and an earlier 10 % tolerance, found no cell whose speed moved
+  beyond tolerance: at 30 and 60
   sweeps the slow (0.25 Hz) gaits on the softest floor, Styrofoam, walk more than 10 %
   slower than with more sweeps, i.e. the solver had not converged on the paws' contacts.
   At 120 the table's verdict is "inconclusive", not "converged": no change is shown
