@@ -7,7 +7,7 @@
 # The profile (smoke | default | paper | gpu) selects config/<profile>.yaml; it is validated
 # against config/schema.yaml before any job runs. Execution settings (cores, executor)
 # live in profiles/default (loaded automatically) and profiles/slurm.
-from snakemake.utils import min_version, validate
+from snakemake.utils import min_version
 
 min_version("9.0")
 
@@ -22,10 +22,9 @@ if config.get("profile", "default") not in PROFILES:
 configfile: f"config/{config.get('profile', 'default')}.yaml"
 
 
+# common.smk validates the merged config against config/schema.yaml and fills its
+# defaults (thesis.config.validate_config: errors name the key and the allowed values).
 include: "workflow/rules/common.smk"
-
-
-validate(config, "config/schema.yaml")
 
 
 report: "workflow/report/workflow.rst"

