@@ -154,9 +154,9 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   inconclusive (no case beyond 3 % with its interval; the largest, Tab. 3.1b at 1.5 Hz,
   +6.4 %, interval down to -5.3 %). The published gaits' falls (V3) are the same at every
   setting (8 / 9 / 8 of 85 runs: Tab. 3.1b at 1 Hz and Tab. 4.2's flat optimum at 1 Hz),
-  so they are the model's, not the step's. Five contacts per foot cost 1.6x the CPU of one; this step 1.35x the CPU per
-  simulated second of 2.5 ms / 120 blocks-first sweeps with plates (Tab. 3.1b at 1.5 Hz,
-  16 robots, median of 3).
+  so they are the model's, not the step's. Five contacts per foot cost 1.6x the CPU of
+  one; this step 1.35x the CPU per simulated second of 2.5 ms / 120 blocks-first sweeps
+  with plates (Tab. 3.1b at 1.5 Hz, 16 robots, median of 3).
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
