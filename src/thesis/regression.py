@@ -4,8 +4,11 @@ A reference is ``tests/regression/smoke/<chapter>/<artifact>.json``: per data va
 its dims, coords, values and a tolerance (``rtol``, ``atol``). Exactly the variables the
 dataset marks as wall-clock measurements (attribute ``measurement="wall_clock"``,
 :data:`thesis.store.WALL_CLOCK`: wall seconds, rates per wall-second, memory) are
-recorded with ``compare: false`` and skipped; nothing is guessed from units or names, so
-a simulated duration in seconds is compared like any other number. The policy is read
+recorded with ``compare: false`` and skipped, and so are text renderings of numbers the
+dataset holds as variables of their own (attribute ``renders``, naming them: a rounding
+boundary flips the text, e.g. -0.0775 m/s as "-0.077" or "-0.078", where the number itself
+passes its tolerance); nothing is guessed from units or names, so a simulated duration in
+seconds is compared like any other number. The policy is read
 from the result's attributes at comparison time (the reference records it too, and a
 difference is reported as a stale reference). Tolerances default to
 ``rtol=1e-3, atol=1e-6``; a variable may set its own with the attributes
@@ -106,11 +109,12 @@ def is_wall_clock(var: xr.DataArray) -> bool:
 
 
 def default_tolerance(name: str, var: xr.DataArray) -> dict:
-    """Tolerance of one variable; wall-clock measurements are recorded but not compared.
-    A variable compared through its mean over a dimension also records that dimension
-    (``over``, from the attribute ``regression_over``)."""
+    """Tolerance of one variable; wall-clock measurements and text renderings of other
+    variables (attribute ``renders``) are recorded but not compared. A variable compared
+    through its mean over a dimension also records that dimension (``over``, from the
+    attribute ``regression_over``)."""
     policy = {
-        "compare": not is_wall_clock(var),
+        "compare": not is_wall_clock(var) and not var.attrs.get("renders"),
         "rtol": float(var.attrs.get("regression_rtol", DEFAULT_RTOL)),
         "atol": float(var.attrs.get("regression_atol", DEFAULT_ATOL)),
     }

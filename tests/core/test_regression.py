@@ -50,6 +50,26 @@ def test_wall_time_is_recorded_but_not_compared():
     assert regression.compare(_ds(secs=(50.0, 60.0)), ref) == []
 
 
+def test_a_text_rendering_of_compared_numbers_is_recorded_but_not_compared():
+    """A text that renders numbers the dataset holds (attribute ``renders``) flips at a
+    rounding boundary where the number passes its tolerance (-0.0775 m/s written "-0.077"
+    on one host, "-0.078" on another): it is recorded, not compared; the number is."""
+    def ds(speed):
+        text = np.array([f"{v:.3f} m/s" for v in speed])
+        return xr.Dataset({"speed": xr.DataArray(np.array(speed), dims="seed"),
+                           "text": xr.DataArray(text, dims="seed", attrs={"renders": "speed"})},
+                          coords={"seed": [0, 1]})
+    ref = json.loads(json.dumps(regression.to_reference(ds([-0.07750001, 0.3]))))
+    assert ref["variables"]["text"]["compare"] is False
+    assert ref["variables"]["text"]["values"] == ["-0.078 m/s", "0.300 m/s"]
+    assert regression.compare(ds([-0.07749999, 0.3]), ref) == []  # "-0.077 m/s"
+    problems = regression.compare(ds([-0.09, 0.3]), ref)
+    assert len(problems) == 1 and "'speed'" in problems[0]
+    unmarked = ds([-0.07749999, 0.3])
+    del unmarked["text"].attrs["renders"]  # as recorded before the marker: a stale reference
+    assert any("stale reference" in p for p in regression.compare(unmarked, ref))
+
+
 def test_changed_labels_are_reported_not_raised():
     """A text variable (e.g. a fate per seed) that changes is a reported difference."""
     def ds(fate):
@@ -170,13 +190,14 @@ def test_committed_chaotic_tolerances_are_what_their_twins_measured():
 
 
 def test_committed_references_skip_only_wall_clock_like_variables():
-    """Every skipped reference variable is one the code marks as wall-clock: the names
-    here are the marked ones (a new skip must be a new marked measurement)."""
+    """Every skipped reference variable is one the code marks as wall-clock, or a text
+    rendering of numbers compared on their own (``renders``): the names here are the
+    marked ones (a new skip must be a new marked measurement)."""
     marked = {"seconds", "seconds_runs", "exponent_n2logn", "exponent_n", "train_seconds",
               "wall_seconds", "trot_wall_seconds", "robot_seconds_per_wall_second",
               "compile_seconds", "ms_per_robot_step", "peak_memory_bytes",
               "rollout_wall_seconds", "rollout_cpu_seconds", "robot_seconds_per_cpu_second",
-              "compile_wall_seconds", "followup_rollout_wall_seconds"}
+              "compile_wall_seconds", "followup_rollout_wall_seconds", "target_text"}
     for path in REFERENCE_FILES:
         for name, spec in json.loads(path.read_text())["variables"].items():
             if not spec["compare"]:

@@ -418,7 +418,8 @@ def dataset(cs, kicks, m, speed, theory, decided) -> xr.Dataset:
                                                    np.int8),
                              _a("1", "1 if the validation target passed"))
     data["target_text"] = (("target",), np.array([decided[t]["text"] for t in TG.TARGETS]),
-                           _a("1", "the target's numbers beside its bounds"))
+                           _a("1", "the target's numbers beside its bounds",
+                              renders="target_passed and the targets' measured variables"))
     for t in TG.TARGETS:
         for k, v in {**decided[t]["measured"], **decided[t]["bounds"]}.items():
             name = f"{t}_{k}".replace(".", "p")
@@ -581,7 +582,8 @@ def convergence(ctx) -> xr.Dataset:
              "starts of every case, the validation's own)"))
     data["target_text"] = (("setting", "target"), np.array(
         [[d[t]["text"] for t in TG.TARGETS] for d in targets]), _a(
-        "1", "the target's numbers beside its bounds at the setting"))
+        "1", "the target's numbers beside its bounds at the setting",
+        renders="target_passed, case_speed, fall_rate, scapula_max_deviation"))
     coords = dict(setting=[s[0] for s in SETTINGS], refined=[s[0] for s in SETTINGS[1:]],
                   case=np.arange(len(cs)), leg=list(L.LEGS), target=list(TG.TARGETS),
                   case_gait=("case", [c["gait"] for c in cs]),
