@@ -1,6 +1,6 @@
 """The smoke regression can still fail: real changes of a few smoke jobs, run from scratch
 in a temporary folder, differ from the committed references (tests/regression/smoke),
-while a held-out rounding-level twin of the same jobs agrees.
+while a held-out rounding-level twin of one of them (ch7's ball) agrees.
 
 Apart from tests/pipeline/test_smoke.py: these read only the committed references, not
 the session's smoke pipeline, so pytest-xdist runs them on the other worker while the
@@ -52,10 +52,14 @@ def _knee_spring_halved(cfg: dict) -> list[str]:
 #: to run in order (experiment, its inputs from earlier jobs), and the --set overrides
 #: that make the change from the smoke config.
 REAL_CHANGES = {
+    # the held-out twin (the regression passes a rounding-level draw its reference was not
+    # measured with) is run for ch7/ball; the other jobs' tolerances are measured by their
+    # references' own twins (perturbed, perturbed-3e7, native), and a held-out twin of
+    # ch5's two jobs would double the case's minutes of CI
     "learning_rate_doubled": ([("ch7/ball", {})], _ball_lr_doubled, True),
     "friction_halved": ([("ch5/puppy_recordings", {}),
                          ("ch5/table5_4", {"recordings": "ch5/puppy_recordings"})],
-                        _friction_halved, True),
+                        _friction_halved, False),
     # the model checks: the Oncilla's validation with its knee spring halved, the Puppy
     # II's convergence table with its floors' friction halved. Their held-out twins are not
     # rerun here (a model check's run is minutes of CI): the references' own twins measure
@@ -90,7 +94,7 @@ def test_smoke_regression_fails_a_real_change_and_passes_a_held_out_twin(tmp_pat
     """The regression can still fail: the same jobs with a learning rate doubled or the
     floor friction halved, and the model checks with the Oncilla's knee spring or the
     Puppy II's floor friction halved, differ from the reference through its chaotic
-    statistics, while (for the chapters' jobs) their twin at a perturbation the references
+    statistics, while (for ch7's ball) its twin at a perturbation the references
     were not measured with (another rounding-level draw, as another CPU would make)
     agrees."""
     jobs, override, held_out = REAL_CHANGES[change]
