@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import ast
 import hashlib
+import os
 import platform
 import socket
 import subprocess
 import sys
+import zlib
 from functools import lru_cache
 from importlib import metadata
 from pathlib import Path
@@ -66,13 +68,46 @@ def source_digest(path: Path) -> bytes:
     does. A file that does not parse is taken byte for byte. The digest is kept per file
     content: every rule of the workflow hashes the shared core packages, and parsing each
     file once instead of once per rule is what keeps the Snakefile's parse in seconds.
+    Across processes it is kept on disk by the SHA-256 of the file's bytes
+    (:func:`digest_cache_dir`): the syntax trees of the package's ~200 files cost about
+    1.5 s of every Snakefile parse (a dry run, each test that plans a workflow).
     """
     return _text_digest(path.read_bytes())
 
 
+def digest_cache_dir() -> Path:
+    """Where :func:`source_digest` keeps its digests between processes:
+    ``$THESIS_DIGEST_CACHE``, else ``~/.cache/thesis/source-digests``, in a subfolder per
+    Python version (the syntax tree's dump is Python's own and may differ between
+    versions). Content-addressed, so one folder serves every checkout."""
+    root = os.environ.get("THESIS_DIGEST_CACHE") or Path.home() / ".cache" / "thesis" / \
+        "source-digests"
+    return Path(root) / f"py{sys.version_info[0]}.{sys.version_info[1]}"
+
+
 @lru_cache(maxsize=None)
 def _text_digest(text: bytes) -> bytes:
-    """:func:`source_digest` of one file's bytes."""
+    """:func:`source_digest` of one file's bytes, from the disk cache where it holds it
+    (zlib-compressed; a cache that cannot be read or written is computed around)."""
+    path = digest_cache_dir() / hashlib.sha256(text).hexdigest()
+    try:
+        return zlib.decompress(path.read_bytes())
+    except (OSError, zlib.error):
+        pass
+    digest = _syntax_digest(text)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        tmp.write_bytes(zlib.compress(digest))
+        os.replace(tmp, path)  # atomic: a parallel parse reads the whole entry or none
+    except OSError:
+        pass
+    return digest
+
+
+def _syntax_digest(text: bytes) -> bytes:
+    """The syntax tree of ``text`` without docstrings, dumped without positions (the bytes
+    themselves where it does not parse)."""
     try:
         tree = ast.parse(text)
     except (SyntaxError, ValueError):

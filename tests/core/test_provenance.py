@@ -1,5 +1,8 @@
 """A rule's code hash moves with the code it runs, not with its docstrings or comments."""
 
+import hashlib
+import zlib
+
 from thesis import provenance
 
 CODE = '''"""Module docstring."""
@@ -49,3 +52,23 @@ def test_code_version_of_the_package_is_stable_and_named_by_subpackage():
     assert provenance.code_version("physics") == provenance.code_version("physics")
     assert provenance.code_version("physics") != provenance.code_version("gaits")
     assert len(provenance.code_version()) == 16
+
+
+def test_digests_are_kept_on_disk_by_content_and_a_bad_entry_is_recomputed(tmp_path,
+                                                                          monkeypatch):
+    """A second process reads the digest of the same bytes from the disk cache instead of
+    parsing again; an unreadable entry is computed again and rewritten."""
+    monkeypatch.setenv("THESIS_DIGEST_CACHE", str(tmp_path / "cache"))
+    provenance._text_digest.cache_clear()
+    want = provenance._syntax_digest(CODE.encode())
+    assert _digest(tmp_path, CODE) == want
+    entries = list(provenance.digest_cache_dir().iterdir())
+    assert [p.name for p in entries] == [hashlib.sha256(CODE.encode()).hexdigest()]
+    provenance._text_digest.cache_clear()  # as a new process
+    entries[0].write_bytes(zlib.compress(b"kept"))
+    assert _digest(tmp_path, CODE) == b"kept"  # read, not parsed
+    provenance._text_digest.cache_clear()
+    entries[0].write_bytes(b"not zlib")
+    assert _digest(tmp_path, CODE) == want
+    assert zlib.decompress(entries[0].read_bytes()) == want
+    provenance._text_digest.cache_clear()
