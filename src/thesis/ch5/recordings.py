@@ -41,7 +41,7 @@ claims.
 Simulation: the floor material is a model leaf, so every trial of every terrain runs in
 the same compiled rollout: a batch of trials (``batch`` robots, vmapped with per-robot
 materials, split over the XLA host devices) advances ``chunk_seconds`` at a time; the
-physics steps of ``ch5.model.dt`` (8 of 2.5 ms at the schema's default) make one 20 ms
+physics steps of ``ch5.model.dt`` (16 of 1.25 ms at the schema's default) make one 20 ms
 sample. Per sample the accelerometer and gyroscope
 are averaged over the sample's steps (a sensor's anti-aliasing); the paw forces (an FSR
 is instantaneous: a point sample, docs/sources.md#ch5-touch), the joint angles and the

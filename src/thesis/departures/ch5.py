@@ -37,9 +37,9 @@ DEPARTURES: tuple[Departure, ...] = (
              "angle at the build pose, so the knee flexes under the standing load); "
              "hobby-servo hips (1 N m, 6 rad/s, gain 50 1/s); 12 mm paws "
              "(thesis.physics.models.puppy docstring gives the reasons). The time step and "
-             "solver (ch5.model: dt 2.5 ms, 120 block-Jacobi sweeps) are those the Puppy II's "
-             "convergence table (model/puppy_convergence, 3 % tolerance) is run on; at 5 ms "
-             "it found cells moved beyond 3 % under dt / 2.",
+             "solver (ch5.model: dt 1.25 ms, 120 block-Jacobi sweeps) are those the Puppy "
+             "II's convergence table (model/puppy_convergence, 3 % tolerance) is run on; at "
+             "5 ms and again at 2.5 ms it found cells moved beyond 3 % under dt / 2.",
         why="No public source (docs/sources.md#puppy-body); chosen for a small servo robot, and "
             "so that the "
             "model stands and walks (a forward knee or a softer spring turned it over); a "
