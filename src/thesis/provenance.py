@@ -89,7 +89,10 @@ def digest_cache_dir() -> Path:
 def _text_digest(text: bytes) -> bytes:
     """:func:`source_digest` of one file's bytes, from the disk cache where it holds it
     (zlib-compressed; a cache that cannot be read or written is computed around)."""
-    path = digest_cache_dir() / hashlib.sha256(text).hexdigest()
+    try:
+        path = digest_cache_dir() / hashlib.sha256(text).hexdigest()
+    except (RuntimeError, KeyError):  # no home directory to keep it in
+        return _syntax_digest(text)
     try:
         return zlib.decompress(path.read_bytes())
     except (OSError, zlib.error):

@@ -72,3 +72,13 @@ def test_digests_are_kept_on_disk_by_content_and_a_bad_entry_is_recomputed(tmp_p
     assert _digest(tmp_path, CODE) == want
     assert zlib.decompress(entries[0].read_bytes()) == want
     provenance._text_digest.cache_clear()
+
+
+def test_without_a_home_directory_the_digest_is_computed(tmp_path, monkeypatch):
+    def no_home():
+        raise RuntimeError("Could not determine home directory.")
+    monkeypatch.delenv("THESIS_DIGEST_CACHE", raising=False)
+    monkeypatch.setattr(provenance.Path, "home", staticmethod(no_home))
+    provenance._text_digest.cache_clear()
+    assert _digest(tmp_path, CODE) == provenance._syntax_digest(CODE.encode())
+    provenance._text_digest.cache_clear()
