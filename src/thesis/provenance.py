@@ -80,8 +80,12 @@ def digest_cache_dir() -> Path:
     ``$THESIS_DIGEST_CACHE``, else ``~/.cache/thesis/source-digests``, in a subfolder per
     Python version (the syntax tree's dump is Python's own and may differ between
     versions). Content-addressed, so one folder serves every checkout."""
-    root = os.environ.get("THESIS_DIGEST_CACHE") or Path.home() / ".cache" / "thesis" / \
-        "source-digests"
+    root = os.environ.get("THESIS_DIGEST_CACHE")
+    if not root:
+        home = Path.home()  # Python 3.11 leaves "~" as is where it finds no home
+        if not home.is_absolute():
+            raise RuntimeError("no home directory")
+        root = home / ".cache" / "thesis" / "source-digests"
     return Path(root) / f"py{sys.version_info[0]}.{sys.version_info[1]}"
 
 
@@ -91,7 +95,7 @@ def _text_digest(text: bytes) -> bytes:
     (zlib-compressed; a cache that cannot be read or written is computed around)."""
     try:
         path = digest_cache_dir() / hashlib.sha256(text).hexdigest()
-    except (RuntimeError, KeyError):  # no home directory to keep it in
+    except RuntimeError:  # no home directory to keep it in
         return _syntax_digest(text)
     try:
         return zlib.decompress(path.read_bytes())

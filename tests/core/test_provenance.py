@@ -75,10 +75,15 @@ def test_digests_are_kept_on_disk_by_content_and_a_bad_entry_is_recomputed(tmp_p
 
 
 def test_without_a_home_directory_the_digest_is_computed(tmp_path, monkeypatch):
+    """Where Path.home() raises, or returns "~" unexpanded (Python 3.11 without a home),
+    nothing is written (not a "~" folder in the working directory)."""
     def no_home():
         raise RuntimeError("Could not determine home directory.")
     monkeypatch.delenv("THESIS_DIGEST_CACHE", raising=False)
-    monkeypatch.setattr(provenance.Path, "home", staticmethod(no_home))
-    provenance._text_digest.cache_clear()
-    assert _digest(tmp_path, CODE) == provenance._syntax_digest(CODE.encode())
+    monkeypatch.chdir(tmp_path)
+    for home in (staticmethod(no_home), staticmethod(lambda: provenance.Path("~"))):
+        monkeypatch.setattr(provenance.Path, "home", home)
+        provenance._text_digest.cache_clear()
+        assert _digest(tmp_path, CODE) == provenance._syntax_digest(CODE.encode())
+        assert not (tmp_path / "~").exists()
     provenance._text_digest.cache_clear()
