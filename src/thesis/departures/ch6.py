@@ -36,15 +36,13 @@ DEPARTURES: tuple[Departure, ...] = (
         id="ch6.teacher_gait", kind="deviation", results=ALL,
         thesis="§6.4: the teacher is a stable trot from previous work at a stated frequency and "
                "speed; its parameters are not printed.",
-        ours="Fixed teachers (ch6.teacher.fixed): chapter 3's spline loci from its default "
-             "run on the calibrated model of chapters 3 and 4 under the pinned arithmetic, at the "
-             "thesis's frequency: the trot seed 0's spline optimum at 0.75 of its stride, the "
-             "walk seed 0's at 0.5 of its stride, the two that a screen of chapter 3's optima "
-             "(every family, seed and stride scale, through the whole protocol including "
-             "the power-off) chooses on the current model (the contact rows at relaxation "
-             "0.3, knee spring 2.0 N m/rad). The screen's perturbed twin chooses another trot "
-             "(seed 2's half ellipse at its full stride): the chosen trot is fragile at the "
-             "rounding level. "
+        ours="Fixed teachers (ch6.teacher.fixed): chapter 3's half-ellipse loci from its default "
+             "run on the fitted model of chapters 3 and 4 (ch3.model) under the pinned "
+             "arithmetic, at the thesis's frequency: the trot seed 2's half-ellipse optimum at "
+             "its full stride, the walk seed 1's at its full stride, the two that a screen of "
+             "chapter 3's optima (every family, seed and stride scale, through the whole "
+             "protocol including the power-off) chooses on that model; the screen's perturbed "
+             "twins choose the same two. "
              "They run through that screen as a check (stays up, walks again after "
              "power-on). Their speed is what the simulated robot reaches, not the "
              "thesis's speed.",
