@@ -39,6 +39,28 @@ def test_sweeps_to_is_the_first_ladder_count_within_target_for_every_state():
     assert np.isnan(SB._sweeps_to(err, [10, 20, 40, 80], 1e-4))
 
 
+def test_oncilla_states_build_the_configured_robot(monkeypatch):
+    """The saved states are of the chapters' Oncilla: every key of ``ch4.model`` (its
+    foot plates and fitted drives, not only its solver) reaches the model's builder."""
+    seen = {}
+
+    class Built(Exception):
+        pass
+
+    def builder(**kwargs):
+        seen.update(kwargs)
+        raise Built
+
+    monkeypatch.setattr(SB.O, "oncilla", builder)
+    cfg = config.load_config("default")["ch4"]["model"]
+    with pytest.raises(Built):
+        SB.oncilla_states(cfg, "tab3_1b", [1.5], 0.5)
+    assert cfg["feet"] == "plate" and seen["feet"] == "plate"
+    assert seen["foot_length"] == cfg["foot_length"] and seen["foot_width"] == cfg["foot_width"]
+    assert seen["drive_stiffness"] == cfg["drive_stiffness"]
+    assert seen["momentum"] == cfg["momentum"] and seen["row_relaxation"] == cfg["row_relaxation"]
+
+
 def _orders(*names):
     """The default bench's ``orders`` entries of these names."""
     bench = config.load_config("default")["physics"]["solver_bench"]

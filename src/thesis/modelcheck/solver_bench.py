@@ -41,6 +41,7 @@ from thesis.gaits import runner as R
 from thesis.gaits import trajectories as T
 from thesis.modelcheck import checks as M
 from thesis.modelcheck import targets as TG
+from thesis.physics.models.oncilla_config import oncilla_kwargs
 from thesis.physics.solver_settings import solver_fields
 
 O = importlib.import_module("thesis.physics.models.oncilla")
@@ -78,18 +79,11 @@ def _march(model, state, action_at, times):
 
 
 def oncilla_states(model_cfg: dict, gait: str, times, settle: float):
-    """(model, [(state, action)]): the Oncilla of ``model_cfg`` (a ``ch4.model`` section)
-    in float64 walking the published gait ``gait`` (a :func:`published_gaits` name)
-    under the ch4 protocol (``settle`` [s], then the self-transition), saved at
+    """(model, [(state, action)]): the Oncilla of ``model_cfg`` (a ``ch4.model`` section,
+    every key of it: feet, drives and solver, :func:`oncilla_kwargs`) in float64 walking
+    the published gait ``gait`` (a :func:`published_gaits` name) under the ch4 protocol (``settle`` [s], then the self-transition), saved at
     ``times`` [s] (module docstring)."""
-    model, state = O.oncilla(dt=float(model_cfg["dt"]),
-                             solver_iterations=int(model_cfg["solver_iterations"]),
-                             knee_spring=float(model_cfg["knee_spring"]),
-                             warm_start=float(model_cfg["warm_start"]),
-                             relaxation=float(model_cfg["relaxation"]),
-                             sweep_order=str(model_cfg["sweep_order"]),
-                             contact_relaxation=model_cfg.get("contact_relaxation"),
-                             dtype=jnp.float64)
+    model, state = O.oncilla(**oncilla_kwargs(model_cfg), dtype=jnp.float64)
     g = {x.name: x for x in TG.published_gaits()}[gait]
     family = T.FAMILIES[g.family]()
     fn = M.command_fn(float(settle), M.SELF_TRANSITION, family)
