@@ -51,11 +51,16 @@ larger factor (``model.row_relaxation``), divided by the number of rows of their
 coordinate that can act in this step (an idle limit has both bounds at 0): such rows
 share one Jacobian, so n of them updated in parallel overshoot n-fold (a mode at 1 - n w,
 as k contacts on one body), which the extrapolation turns into divergence (the Puppy
-II's knee spring and its engaged limit, undivided, diverge above about 0.65). With the rows at the
-blocks' factor no setting reaches 1e-2 in 40 sweeps on every saved Oncilla state of
-``thesis bench solver``; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.85 every
-Oncilla state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120
-(blocks first: 240 and 480), and the Puppy II's in 60 and 120.
+II's knee spring and its engaged limit, undivided, diverge above about 0.65). On the saved
+states of ``thesis bench solver`` of the Oncilla with point feet at 2.5 ms
+(``tests/modelcheck/test_solver_bench.py``), with the rows at the blocks' factor no setting
+reaches 1e-2 in 40 sweeps; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.85 every
+state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120 (blocks first: 240
+and 480), and the Puppy II's in 60 and 120. On the chapters' Oncilla (foot plates, 0.625 ms;
+the default bench) the same settings are within 1e-2 in 20 sweeps on all six states (blocks
+first 60, Jacobi 160) and within 1e-4 in 40-160 on five; the sixth (Tab. 3.1b's spline at
+1.5 s) keeps a slow mode that no order removes: 2.9e-3 at 120 sweeps, 9.6e-4 at 480 (blocks
+first 7.6e-3 and 3.3e-3).
 
 With ``momentum_restart`` a sweep whose update ``x_{k+1} - y_k`` points against the last
 change ``x_{k+1} - x_k`` (a negative inner product in the metric of the softened Delassus
