@@ -81,8 +81,9 @@ def _march(model, state, action_at, times):
 def oncilla_states(model_cfg: dict, gait: str, times, settle: float):
     """(model, [(state, action)]): the Oncilla of ``model_cfg`` (a ``ch4.model`` section,
     every key of it: feet, drives and solver, :func:`oncilla_kwargs`) in float64 walking
-    the published gait ``gait`` (a :func:`published_gaits` name) under the ch4 protocol (``settle`` [s], then the self-transition), saved at
-    ``times`` [s] (module docstring)."""
+    the published gait ``gait`` (a :func:`published_gaits` name) under the ch4 protocol
+    (``settle`` [s], then the self-transition), saved at ``times`` [s] (module
+    docstring)."""
     model, state = O.oncilla(**oncilla_kwargs(model_cfg), dtype=jnp.float64)
     g = {x.name: x for x in TG.published_gaits()}[gait]
     family = T.FAMILIES[g.family]()
