@@ -58,7 +58,7 @@ reaches 1e-2 in 40 sweeps; with rows 0.8, blocks 0.65, contacts 0.5 and beta 0.8
 state is within 1e-2 of the direct solution in 40 sweeps and 1e-4 in 120 (blocks first: 240
 and 480), and the Puppy II's in 60 and 120. On the chapters' Oncilla (foot plates, 0.625 ms;
 the default bench) the same settings are within 1e-2 in 20 sweeps on all six states (blocks
-first 60, Jacobi 160) and within 1e-4 in 40-160 on five; the sixth (Tab. 3.1b's spline at
+first 60, Jacobi 160) and within 1e-4 in 30-160 on five; the sixth (Tab. 3.1b's spline at
 1.5 s) keeps a slow mode that no order removes: 2.9e-3 at 120 sweeps, 9.6e-4 at 480 (blocks
 first 7.6e-3 and 3.3e-3).
 
