@@ -60,7 +60,7 @@ and 480), and the Puppy II's in 60 and 120. On the chapters' Oncilla (foot plate
 the default bench) the same settings are within 1e-2 in 20 sweeps on all six states (blocks
 first 60, Jacobi 160) and within 1e-4 in 30-160 on five; the sixth (Tab. 3.1b's spline at
 1.5 s) keeps a slow mode that no order removes: 2.9e-3 at 120 sweeps, 9.6e-4 at 480 (blocks
-first 7.6e-3 and 3.3e-3).
+first 4.1e-3 and 3.3e-3).
 
 With ``momentum_restart`` a sweep whose update ``x_{k+1} - y_k`` points against the last
 change ``x_{k+1} - x_k`` (a negative inner product in the metric of the softened Delassus
