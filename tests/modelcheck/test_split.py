@@ -71,8 +71,8 @@ def test_every_paper_key_of_the_split_exists_and_the_sides_are_disjoint():
         assert p.source and p.what and p.gaits, p.id
     assert S.paper_keys(S.FITTED) and S.paper_keys(S.JUDGED)
     assert not S.paper_keys(S.FITTED) & S.paper_keys(S.JUDGED)
-    assert S.TARGETS == TG.TARGETS
-    assert {p.target for p in S.PARTS} - {None} == set(TG.TARGETS)
+    assert S.TARGETS == TG.ALL_TARGETS
+    assert {p.target for p in S.PARTS} - {None} == set(TG.ALL_TARGETS)
     gaits = {g.name for g in TG.published_gaits()}
     assert all(set(p.gaits) <= gaits for p in S.PARTS)
 

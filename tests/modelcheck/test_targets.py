@@ -1,4 +1,4 @@
-"""The validation targets V1-V6 (thesis.modelcheck.targets) decide synthetic numbers as
+"""The validation targets V1-V7 (thesis.modelcheck.targets) decide synthetic numbers as
 their docstring says: each passes inside its bounds and fails just outside them."""
 
 from __future__ import annotations
@@ -96,3 +96,37 @@ def test_a_gait_that_fell_is_written_as_fallen_not_as_nan():
     assert "0.590 m/s at 2.6 Hz" in out["V2"]["text"]
     del speed[("tab3_1b", 2.6)]  # a frequency not run is not a fall
     assert "not run at 2.6 Hz" in T.decide(speed, theory, 0, 20, 0.5)["V2"]["text"]
+
+
+_PEBBLY = ("table4_4_terrainpebbly_transfer0_rank1", "table4_4_terrainpebbly_transfer1_rank1",
+           "table4_4_terrainpebbly_transfer1_rank2")
+
+
+def test_pebble_target_reads_tab4_4s_pebbly_rows():
+    assert [g.name for g in T.pebble_gaits()] == list(_PEBBLY)
+    assert T.pebble_gaits()[0].params[:3] == (2.0, 87.3, 142.2)
+    assert list(T.pebble_speed_keys()) == list(_PEBBLY)
+    assert T.PEBBLE_TARGET not in T.TARGETS and T.ALL_TARGETS[-1] == T.PEBBLE_TARGET
+
+
+@pytest.mark.parametrize("speeds, passed", [
+    ((0.69, 0.74, 0.74), True),  # the published speeds
+    ((0.52, 0.56, 0.92), True),  # just inside each 25 % band
+    ((0.51, 0.74, 0.74), False),  # 0.51 < 0.69 x 0.75
+    ((0.69, 0.74, 0.93), False),  # 0.93 > 0.74 x 1.25
+    ((0.69, math.nan, 0.74), False),  # a gait that fell in most starts has no speed
+])
+def test_pebble_target_decides_each_speed_within_its_band(speeds, passed):
+    out = T.decide_pebbles(dict(zip(_PEBBLY, speeds)), dict.fromkeys(_PEBBLY, 1), runs=10)
+    assert set(out) == {"V7"} and out["V7"]["passed"] is passed
+    assert out["V7"]["measured"][f"{_PEBBLY[0]}_falls"] == 1
+    assert "1 of 10 fell" in out["V7"]["text"]
+
+
+def test_pebble_target_fails_when_a_gait_was_not_run():
+    out = T.decide_pebbles({_PEBBLY[0]: 0.69, _PEBBLY[1]: 0.74}, {}, runs=4)
+    assert not out["V7"]["passed"] and out["V7"]["text"].endswith("rank2: not run (accepted "
+                                                                  "0.555-0.925)")
+    out = T.decide_pebbles({_PEBBLY[0]: 0.69, _PEBBLY[1]: 0.74, _PEBBLY[2]: math.nan},
+                           dict.fromkeys(_PEBBLY, 3), runs=4)
+    assert not out["V7"]["passed"] and "rank2: fell (no speed), 3 of 4 fell" in out["V7"]["text"]

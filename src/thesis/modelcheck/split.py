@@ -11,7 +11,7 @@ readers are :mod:`thesis.modelcheck.targets`; experiment code never imports the 
 so a test can check that the calibration reads only the keys of the *fitted on* side
 (tests/modelcheck/test_split.py).
 
-* :data:`PARTS`: every sub-target of the validation targets V1-V6
+* :data:`PARTS`: every sub-target of the validation targets V1-V7
   (:mod:`thesis.modelcheck.targets`) and the published measurements beside them, each on
   exactly one side, :data:`FITTED` (the calibration may read it) or :data:`JUDGED`
   (validation only), with its thesis source and its paper keys. A part whose verdict the
@@ -145,14 +145,23 @@ PARTS: tuple[Part, ...] = (
          "each scapula stays within 2 deg of its command (0) while trotting",
          "§3.3.1.1 (\"the plane in which the legs move does not change\")", (),
          ("tab3_1a", "tab3_1b", _FLAT_OPTIMUM), ANY),
+    Part("V7", "V7", JUDGED,
+         "Tab. 4.4's pebble optima walk their published speeds on the simulated pebble field",
+         "§4.6.3 (Tab. 4.4)", ("table4_4/terrain=pebbly/transfer=0/rank=1/speed",
+                               "table4_4/terrain=pebbly/transfer=1/rank=1/speed",
+                               "table4_4/terrain=pebbly/transfer=1/rank=2/speed"),
+         ("table4_4_terrainpebbly_transfer0_rank1", "table4_4_terrainpebbly_transfer1_rank1",
+          "table4_4_terrainpebbly_transfer1_rank2"), ANY,
+         "the pebble field is chapter 4's (ch4.pebbles), fixed before these runs; no fit "
+         "runs on pebbles"),
     Part("tab4_2.speed", None, JUDGED,
          "Tab. 4.2's flat optimum walks its published speed at its own frequency",
          "Tab. 4.2", ("table4_2/grade=0/transfer=0/speed",), (_FLAT_OPTIMUM,), ANY,
          "no validation target compares it yet; declared so that none may fit it"),
 )
 
-#: The validation targets the parts split (:data:`thesis.modelcheck.targets.TARGETS`).
-TARGETS = ("V1", "V2", "V3", "V4", "V5", "V6")
+#: The validation targets the parts split (:data:`thesis.modelcheck.targets.ALL_TARGETS`).
+TARGETS = ("V1", "V2", "V3", "V4", "V5", "V6", "V7")
 
 
 def parts(side: str | None = None, target: str | None = None) -> tuple[Part, ...]:

@@ -35,6 +35,15 @@ Targets (thesis sections in brackets):
   of its command while trotting: the largest deviation over all legs and all upright
   window samples of every published trot.
 
+* **V7** (§4.6.3, Tab. 4.4; decided by :func:`decide_pebbles` on the runs of
+  :mod:`thesis.modelcheck.pebbles`, not by the flat-ground instrument): each pebble optimum
+  the thesis published (Tab. 4.4's three pebbly rows, :func:`pebble_gaits`) walks on the
+  simulated pebble field of chapter 4 its published speed within :data:`SPEED_TOLERANCE`
+  (25 %), re-evaluated from standstill as chapter 4 re-evaluates its best particles. Falls
+  are not capped beyond that: §4.6.3 expects "an ill placed pebble" to tip the robot over
+  now and then, but a gait whose starts fall more often than they stay up has no speed
+  (:func:`gait_speed`) and fails. Every claim that rests on the pebble runs reads it.
+
 A gait's speed at one frequency is the mean over its perturbed starts that stayed up;
 fewer than half of them up makes the speed undefined (NaN) and a speed target on it
 failed ("fell"). Every decision returns its numbers beside its bounds.
@@ -67,8 +76,12 @@ NEAR_TOLERANCE = 0.20
 SCAPULA_TOLERANCE_DEG = 2.0
 #: Least fraction of a gait's starts that must stay up for its speed to be defined.
 MIN_UPRIGHT_FRACTION = 0.5
-#: The targets, in order.
+#: The targets of the flat-ground instrument (:mod:`thesis.modelcheck.validation`), in order.
 TARGETS = ("V1", "V2", "V3", "V4", "V5", "V6")
+#: The pebble field's target (:func:`decide_pebbles`, :mod:`thesis.modelcheck.pebbles`).
+PEBBLE_TARGET = "V7"
+#: Every target, in order.
+ALL_TARGETS = TARGETS + (PEBBLE_TARGET,)
 #: Frequency [Hz] of V1's speed: the gait of §3.3.3's forward speed, read from the paper
 #: (V2's frequencies come with its speeds, :func:`published_speeds`).
 V1_FREQUENCY = float(paper.get("sec3.3.3/turning_frequency").value)
@@ -111,6 +124,13 @@ def _tab3_1(gait: str, order) -> tuple:
                        .value) for n in order)
 
 
+def _gait_name(prefix: str) -> str:
+    """Gait name of a Tab. 4.2-4.4 row's key prefix: ``table4_4/terrain=pebbly/transfer=1/
+    rank=2`` -> ``table4_4_terrainpebbly_transfer1_rank2``."""
+    table, *coords = prefix.split("/")
+    return table + "_" + "_".join(c.replace("=", "") for c in coords)
+
+
 def _ch4_optima() -> list[PublishedGait]:
     out = []
     for table in ("Tab. 4.2", "Tab. 4.3", "Tab. 4.4"):
@@ -118,11 +138,10 @@ def _ch4_optima() -> list[PublishedGait]:
                            if e.key.endswith("/f")})
         for pre in prefixes:
             p = tuple(float(paper.get(f"{pre}/{_CH4_COLUMNS[n]}").value) for n in SPLINE_ORDER)
-            coords = pre.split("/")[1:]
-            name = pre.split("/")[0] + "_" + "_".join(c.replace("=", "") for c in coords)
+            name = _gait_name(pre)
             if any(g.params == p for g in out):
                 continue  # Tab. 4.3's and 4.4's flat rows repeat Tab. 4.2's flat optimum
-            out.append(PublishedGait(name, "spline", p, table, "grade=0" in coords))
+            out.append(PublishedGait(name, "spline", p, table, "grade=0" in pre.split("/")))
     return out
 
 
@@ -312,3 +331,51 @@ def decide(speed: dict, theory: dict, falls: int, runs: int, scapula_max_deg: fl
                         f"largest scapula deviation from its command while trotting "
                         f"{m:.2f} deg (<= {SCAPULA_TOLERANCE_DEG})")
     return out
+
+
+def pebble_gaits() -> list[PublishedGait]:
+    """Tab. 4.4's pebble optima (its three ``terrain=pebbly`` rows: without transfer, and
+    the transferred run's best and its best after the first generation), the gaits V7
+    runs on the pebble field."""
+    return [g for g in _ch4_optima() if g.name.startswith("table4_4_terrainpebbly")]
+
+
+def pebble_speed_keys() -> dict[str, str]:
+    """{gait name (:func:`pebble_gaits`): paper key of the speed Tab. 4.4 gives for it}."""
+    keys = {}
+    for e in paper.table("Tab. 4.4"):
+        if not e.key.endswith("/speed") or "terrain=pebbly" not in e.key:
+            continue
+        keys[_gait_name(e.key.rsplit("/", 1)[0])] = e.key
+    return keys
+
+
+def decide_pebbles(speed: dict, falls: dict, runs: int) -> dict:
+    """Decide V7 from the pebble field's runs.
+
+    Args:
+        speed: {gait name (:func:`pebble_gaits`): speed [m/s]} (:func:`gait_speed` over its
+            starts; NaN when fewer than half stayed up).
+        falls: {gait name: fallen starts}; a gait absent here was not run (its falls are
+            written -1).
+        runs: starts per gait.
+
+    Returns:
+        {"V7": dict(passed, measured, bounds, text)} as :func:`decide` returns each target;
+        a published pebble gait missing from ``speed`` fails with NaN.
+    """
+    keys = pebble_speed_keys()
+    meas, bnd, ok, parts = {}, {}, True, []
+    for name, key in keys.items():
+        lo, hi = speed_bounds(float(paper.get(key).value))
+        v = float(speed.get(name, float("nan")))
+        meas[f"{name}_speed"] = v
+        meas[f"{name}_falls"] = int(falls[name]) if name in falls else -1
+        bnd[f"{name}_low"], bnd[f"{name}_high"] = lo, hi
+        ok &= within(v, lo, hi)
+        txt = (f"{speed_text(speed, name)}, {falls[name]} of {runs} fell" if name in falls
+               else "not run")
+        parts.append(f"{name.removeprefix('table4_4_terrainpebbly_')}: {txt} "
+                     f"(accepted {lo:.3f}-{hi:.3f})")
+    return {PEBBLE_TARGET: _result(ok, meas, bnd, "Tab. 4.4's pebble optima on the "
+                                   "simulated pebble field: " + "; ".join(parts))}
