@@ -6,7 +6,8 @@
 - ``thesis validate oncilla --profile smoke``: the Oncilla model's validation on the
   thesis's published gaits (V1-V6), its convergence table and the knee spring's
   calibration to V1, into ``results/<profile>/model/validation.nc``, ``convergence.nc``
-  and ``calibration.nc``; ``--only fit`` (only when named) the fit of its unsourced values
+  and ``calibration.nc``, and V7, Tab. 4.4's pebble optima on the pebble field, into
+  ``pebbles.nc``; ``--only fit`` (only when named) the fit of its unsourced values
   (``model/fit.nc``, :mod:`thesis.modelcheck.fit`); ``thesis validate puppy``: the Puppy II's recordings in dt and
   sweeps, into ``model/puppy_convergence.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
@@ -167,8 +168,8 @@ def _cmd_bench(args) -> int:
 
 
 def _cmd_validate(args) -> int:
-    """``thesis validate oncilla``: the model's validation (V1-V6) and its convergence
-    table, written to ``results/<profile>/model/`` (``--only`` one of them)."""
+    """``thesis validate oncilla``: the model's validation (V1-V6), its convergence
+    table, calibration and pebble target (V7), written to ``results/<profile>/model/`` (``--only`` one of them)."""
     if args.robot not in registry.VALIDATIONS:
         known = ", ".join(sorted(registry.VALIDATIONS))
         raise SystemExit(f"unknown robot {args.robot!r} to validate; available: {known}")
@@ -338,10 +339,11 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("robot", help="oncilla or puppy")
     common(v)
     v.add_argument("--only", default=None, choices=("validation", "convergence", "calibration",
-                                               "fit", "puppy_convergence"),
+                                               "pebbles", "fit", "puppy_convergence"),
                    help="run only the validation, the convergence table, the "
-                        "calibration or the fit of the unsourced values (oncilla; the fit "
-                        "runs only when named), or the convergence table (puppy)")
+                        "calibration, the pebble target or the fit of the unsourced values "
+                        "(oncilla; the fit runs only when named), or the convergence table "
+                        "(puppy)")
     v.add_argument("--output", default=None,
                    help="result path, with --only (default results/<profile>/model/<only>.nc)")
     v.set_defaults(func=_cmd_validate)

@@ -85,15 +85,16 @@ EXPERIMENTS: dict[str, str] = {
     "model/convergence": "thesis.modelcheck.validation:convergence",
     "model/calibration": "thesis.modelcheck.calibration:calibration",
     "model/fit": "thesis.modelcheck.fit:fit",
+    "model/pebbles": "thesis.modelcheck.pebbles:pebbles",
     "model/puppy_convergence": "thesis.modelcheck.puppy_convergence:convergence",
     "model/puppy_contact": "thesis.modelcheck.puppy_contact:puppy_contact",
     "model/puppy_heldout": "thesis.modelcheck.puppy_heldout:puppy_heldout",
 }
 
 #: ``thesis validate <robot>`` -> registry keys it runs (the Oncilla's validation,
-#: convergence table and calibration; the Puppy II's convergence table).
+#: convergence table, calibration and pebble target V7; the Puppy II's convergence table).
 VALIDATIONS: dict[str, tuple[str, ...]] = {
-    "oncilla": ("model/validation", "model/convergence", "model/calibration"),
+    "oncilla": ("model/validation", "model/convergence", "model/calibration", "model/pebbles"),
     "puppy": ("model/puppy_convergence",),
 }
 
@@ -210,6 +211,8 @@ READS: dict[str, tuple[str, ...]] = {
                           "ch4.protocol.fall_height"),
     "model/fit": ("physics.oncilla_fit", "physics.oncilla_validation", "ch4.model",
                   "ch4.tether", "ch4.protocol.settle", "ch4.protocol.fall_height"),
+    "model/pebbles": ("physics.oncilla_pebbles", "ch4.model", "ch4.tether", "ch4.protocol",
+                      "ch4.pebbles", "ch4.reeval.heading_deg"),
 }
 
 

@@ -136,3 +136,32 @@ def test_every_ch3_ch4_ch6_claim_is_flagged_and_shown_beside_its_verdict():
     assert any(MV.UNVALIDATED in line for line in V.summary_lines([out], out["chapter"]))
     plain = {**out, "model_validation": {"unvalidated": False, "failed_targets": []}}
     assert MV.UNVALIDATED not in V.claims_html([plain])
+
+
+def _pebbles(passed):
+    return xr.Dataset(dict(
+        target_passed=(("target",), np.array([passed], np.int8)),
+        target_text=(("target",), np.array(["V7 numbers"]))), coords=dict(target=["V7"]))
+
+
+def test_the_pebble_target_flags_the_claims_on_the_pebble_runs_alone():
+    ok = {"model/validation": _validation([1] * 6)}
+    bad = {**ok, "model/pebbles": _pebbles(0)}
+    for key in MV.PEBBLE_RESULTS:
+        f = MV.flag([key], bad)["model_validation"]
+        assert f["unvalidated"] and f["failed_targets"] == [{"target": "V7",
+                                                             "text": "V7 numbers"}]
+    assert not MV.flag(["ch4/fig4_5"], bad)["model_validation"]["unvalidated"]
+    assert not MV.flag(["ch4/table4_4"], {**ok, "model/pebbles": _pebbles(1)})[
+        "model_validation"]["unvalidated"]
+    # the pebble check alone (no flat-ground validation) still flags a pebble claim
+    only = MV.flag(["ch4/fig4_8"], {"model/pebbles": _pebbles(0)})["model_validation"]
+    assert [x["target"] for x in only["failed_targets"]] == ["V7"]
+    assert MV.flag(["ch4/fig4_5"], {"model/pebbles": _pebbles(0)}) == {}
+    assert "failed: V7; thesis validate oncilla" in MV.text({"model_validation": only})
+    # every chapter-4 claim on the pebble runs reads it, and no claim of another chapter
+    # but §8.1's summaries of chapter 4 does
+    on = [c for c in CLAIMS if MV.rests_on_pebbles(c.requires)]
+    assert {c.id for c in on} >= {"ch4.transfer_not_significant_on_pebbles",
+                                  "ch4.pebbles_head_start_lost"}
+    assert all(c.id.startswith("ch4.") or c.chapter == 8 for c in on)

@@ -13,6 +13,7 @@ import pytest
 
 from thesis.ch5 import recordings as R
 from thesis.modelcheck import calibration as CAL
+from thesis.modelcheck import pebbles as PB
 from thesis.modelcheck import puppy_convergence as PC
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck import validation as V
@@ -28,7 +29,7 @@ def validation(ds, cfg):
     v = cfg["physics"]["oncilla_validation"]
     assert resolve("model/validation") is V.validation
     assert VALIDATIONS["oncilla"] == ("model/validation", "model/convergence",
-                                      "model/calibration")
+                                      "model/calibration", "model/pebbles")
     assert ds.sizes["case"] == len(V.cases(v)) and ds.sizes["start"] == v["starts"]
     for name in ("speed", "fallen", "roll_max", "pitch_max", "stance_compression",
                  "scapula_max_deviation", "reach_outside", "target_passed", "target_text",
@@ -168,5 +169,30 @@ def puppy_convergence(ds, cfg):
     assert RV.puppy_convergence_table({}).rows == [[RV.NOT_RUN]]
 
 
+def pebbles(ds, cfg):
+    """V7's runs: Tab. 4.4's three pebble optima on both floors from the configured starts,
+    the target decided from the pebble runs (whatever its outcome)."""
+    assert resolve("model/pebbles") is PB.pebbles
+    n = cfg["physics"]["oncilla_pebbles"]["starts"]
+    assert list(ds["floor"].values) == list(PB.FLOORS)
+    assert list(ds["gait"].values) == [g.name for g in TG.pebble_gaits()]
+    assert ds.sizes["start"] == n and list(ds["target"].values) == [TG.PEBBLE_TARGET]
+    for name in ("speed", "fallen", "score", "taut", "case_speed", "case_falls",
+                 "published_speed", "speed_low", "speed_high", "target_passed",
+                 "target_text"):
+        assert name in ds and "units" in ds[name].attrs, name
+    falls = ds["fallen"].sel(floor="pebbly").sum("start").values
+    assert list(falls) == list(ds["case_falls"].sel(floor="pebbly").values)
+    lo, hi = ds["speed_low"].values, ds["speed_high"].values
+    assert np.allclose(lo, 0.75 * ds["published_speed"].values) and np.all(hi > lo)
+    assert set(ds["target_passed"].values) <= {0, 1}
+    # the pebble runs start along the strip, after its margin
+    assert np.all(ds["start_x"].values >= cfg["ch4"]["pebbles"]["start_margin"])
+    t = RV.pebbles_table({"model/pebbles": ds})
+    assert len(t.rows) == 3 and t.note.startswith("V7 ")
+    assert RV.pebbles_table({}).rows == [[RV.NOT_RUN] * 4]
+
+
 CHECKS = {"model/validation": validation, "model/calibration": calibration,
-          "model/convergence": convergence, "model/puppy_convergence": puppy_convergence}
+          "model/convergence": convergence, "model/puppy_convergence": puppy_convergence,
+          "model/pebbles": pebbles}

@@ -2,7 +2,8 @@
 # oncilla`): the thesis's published gaits on the model, decided against V1-V6
 # (thesis.modelcheck.targets), and the same runs at dt / 2 and with twice the solver sweeps
 # (the convergence table), and the committed calibration of the knee spring to V1 alone
-# (thesis.modelcheck.calibration); the Puppy II's recordings in dt and sweeps
+# (thesis.modelcheck.calibration), and Tab. 4.4's pebble optima on chapter 4's pebble field
+# (V7, thesis.modelcheck.pebbles); the Puppy II's recordings in dt and sweeps
 # (thesis.modelcheck.puppy_convergence). Not a chapter: the claims of ch3, ch4 and ch6 read the
 # validation to mark verdicts decided on an unvalidated model, so both come before claims.
 
@@ -72,6 +73,28 @@ rule model_calibration:
         "--output {output.nc} > {log} 2>&1"
 
 
+rule model_pebbles:
+    message:
+        "Oncilla model: Tab. 4.4's pebble optima on the pebble field (V7), profile {PROFILE}"
+    output:
+        nc=result("model", "pebbles"),
+    params:
+        cfg=cfg_slice("model/pebbles"),
+        # it evaluates as chapter 4 does (thesis.ch4.transfer_runs)
+        code=code_version(*CORE_CODE, "modelcheck", "ch4", "gaits", "optim", "physics"),
+        only="pebbles",
+    log:
+        log_path("model", "pebbles"),
+    benchmark:
+        bench_path("model", "pebbles")
+    threads: 2
+    resources:
+        **res("model", "pebbles", mem_mb=2000, runtime=20),
+    shell:
+        "{THESIS} validate oncilla --only {params.only} --profile {PROFILE} "
+        "--output {output.nc} > {log} 2>&1"
+
+
 # The fit of the Oncilla's unsourced values (thesis.modelcheck.fit, split.PROCEDURE): an
 # optional model check, run by name (snakemake model_fit), outside MODEL_TARGETS: no claim
 # or report reads it, and it has no smoke regression reference.
@@ -121,6 +144,7 @@ MODEL_TARGETS = [
     rules.model_validation.output.nc,
     rules.model_convergence.output.nc,
     rules.model_calibration.output.nc,
+    rules.model_pebbles.output.nc,
 ]
 
 

@@ -9,7 +9,10 @@ the verdict was decided on an unvalidated model, with the failed targets and the
 The verdict itself is not changed: the flag says what it may describe (the simulator, not
 the thesis's robot). All of these claims rest on the model's speeds and falls (the
 quantities V1-V5 check) and on its gait families' ranking (V5), so every failed target is
-listed for each of them. A model whose convergence table (``model/convergence``,
+listed for each of them. A claim whose required results come from chapter 4's pebble runs
+(:data:`PEBBLE_RESULTS`) rests on the robot walking the pebble field as well: where V7
+(Tab. 4.4's pebble optima on that field, ``model/pebbles``,
+:mod:`thesis.modelcheck.pebbles`) failed, it is listed for those claims alone. A model whose convergence table (``model/convergence``,
 :mod:`thesis.modelcheck.convergence_rule`) decides "not converged" is not validated
 either: its speeds and falls change with the time step or the solver sweeps, so the
 table's failed settings are listed beside the failed targets (as "convergence"). An
@@ -72,6 +75,10 @@ PUPPY_WITHIN_TARGET = "Puppy II terrains within a gait"
 REMAKE = {PUPPY_TARGET: "thesis validate puppy",
           PUPPY_ACROSS_TARGET: "thesis bench puppy-heldout",
           PUPPY_WITHIN_TARGET: "thesis bench puppy-heldout"}
+#: Result key of the pebble field's target V7.
+PEBBLES_KEY = "model/pebbles"
+#: Results made from chapter 4's pebble runs (transfer_pebbly and what is made from it).
+PEBBLE_RESULTS = ("ch4/transfer_pebbly", "ch4/table4_4", "ch4/fig4_8")
 #: Result key of the knee spring's calibration.
 CALIBRATION_KEY = "model/calibration"
 FIT_KEY = "model/fit"
@@ -138,6 +145,22 @@ def terrain_failures(results: Mapping) -> list[dict] | None:
     return out
 
 
+def pebble_failures(results: Mapping) -> list[dict] | None:
+    """V7 of ``results[PEBBLES_KEY]`` as ``[{"target": "V7", "text": ...}]`` where it
+    failed, empty where it passed; None when the check was not run."""
+    ds = results.get(PEBBLES_KEY)
+    if ds is None:
+        return None
+    return [{"target": str(t), "text": str(txt)}
+            for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
+                                 ds["target_text"].values) if not int(p)]
+
+
+def rests_on_pebbles(requires: Iterable[str]) -> bool:
+    """True if any required result comes from chapter 4's pebble runs."""
+    return any(str(r) in PEBBLE_RESULTS for r in requires)
+
+
 def rests_on_oncilla(requires: Iterable[str]) -> bool:
     """True if any required result comes from chapter 3, 4 or 6."""
     return any(str(r).startswith(ONCILLA_RESULTS) for r in requires)
@@ -171,7 +194,8 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
     """The fields a claim's verdict gains (empty when none): ``model_validation`` with
     ``unvalidated`` (True), ``reading`` (:data:`UNVALIDATED`) and ``failed_targets``,
     where the claim rests on the Oncilla and a validation target failed; or
-    ``unvalidated`` False with no failed target where the validation passed; and
+    ``unvalidated`` False with no failed target where the validation passed (V7 counts
+    only for a claim on the pebble runs, :func:`rests_on_pebbles`); and
     ``calibration_target`` (:func:`calibration_mark`) where its thesis numbers include
     the calibration's target. A claim on chapter 5's recordings gains ``model_validation``
     from the Puppy II's convergence table and terrain check (:func:`terrain_failures`)
@@ -194,6 +218,9 @@ def flag(requires: Iterable[str], results: Mapping, status: str = "",
         out["calibration_target"] = mark
     conv = convergence_failure(results, CONVERGENCE_KEY, "convergence")
     failed = failed_targets(results, conv)
+    pebbles = pebble_failures(results) if rests_on_pebbles(requires) else None
+    if pebbles is not None:
+        failed = (failed or []) + pebbles
     if failed is None:
         return out
     out["model_validation"] = _record(failed, conv)

@@ -350,6 +350,12 @@ def pebble_speed_keys() -> dict[str, str]:
     return keys
 
 
+def pebble_speeds() -> dict[str, float]:
+    """{gait name (:func:`pebble_gaits`): the speed [m/s] Tab. 4.4 gives for it} (measured
+    on the real pebbly treadmill; validation only, :mod:`thesis.modelcheck.split`)."""
+    return {n: float(paper.get(k).value) for n, k in pebble_speed_keys().items()}
+
+
 def decide_pebbles(speed: dict, falls: dict, runs: int) -> dict:
     """Decide V7 from the pebble field's runs.
 
@@ -364,10 +370,9 @@ def decide_pebbles(speed: dict, falls: dict, runs: int) -> dict:
         {"V7": dict(passed, measured, bounds, text)} as :func:`decide` returns each target;
         a published pebble gait missing from ``speed`` fails with NaN.
     """
-    keys = pebble_speed_keys()
     meas, bnd, ok, parts = {}, {}, True, []
-    for name, key in keys.items():
-        lo, hi = speed_bounds(float(paper.get(key).value))
+    for name, published in pebble_speeds().items():
+        lo, hi = speed_bounds(published)
         v = float(speed.get(name, float("nan")))
         meas[f"{name}_speed"] = v
         meas[f"{name}_falls"] = int(falls[name]) if name in falls else -1
