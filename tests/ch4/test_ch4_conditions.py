@@ -241,3 +241,38 @@ def test_the_model_section_s_solver_settings_reach_the_solver(chapter):
     assert float(model.relaxation) == pytest.approx(0.7)
     assert model.sweep_order == other
     assert model.contact_relaxation == pytest.approx(0.4)
+
+
+def test_pebbly_starts_overlap_no_pebble_and_the_field_has_its_relaxation(cfg):
+    """Every start on the strip (random place and heading) is set down above the pebbles:
+    no foot contact sphere overlaps a pebble, as a start pose built on the bare floor does
+    among 1-cm pebbles. The field's contact rows take ``pebbles.contact_relaxation``, the
+    flat floor the model's."""
+    from scipy.spatial import cKDTree
+
+    from thesis.physics import collision
+
+    model, state = C.condition_model(cfg, "pebbly", 0)
+    flat, flat_state = C.condition_model(cfg, "flat")
+    assert model.contact_relaxation == pytest.approx(cfg["pebbles"]["contact_relaxation"])
+    assert flat.contact_relaxation == cfg["model"].get("contact_relaxation")
+    centres, r = C.pebble_layout(cfg, 0)
+    tree = cKDTree(centres)
+    n = 200
+    fw = TR.start_sampler(cfg, 0, "pebbly", 4.0)(0, n)
+    heads = np.random.default_rng(0).uniform(-0.05, 0.05, n)
+    q = np.asarray(model.field_query)
+    radius = np.asarray(model.csphere_radius)[q]
+
+    def worst_gap(st) -> float:
+        s = R.batch_states(st, n, heading=heads, forward=fw)
+        gaps = []
+        for i in range(n):
+            c = np.asarray(collision.sphere_centres(model, s.pos[i], s.rot[i]))[q]
+            d, _ = tree.query(c)
+            gaps.append(np.min(d - r - radius))
+        return float(np.min(gaps))
+
+    assert worst_gap(state) >= -1e-6
+    assert np.asarray(state.pos)[:, 2] == pytest.approx(np.asarray(flat_state.pos)[:, 2] + 2 * r)
+    assert worst_gap(flat_state) < -1e-3  # the bare floor's start pose would overlap

@@ -216,6 +216,9 @@ def test_pebbles_end_to_end_and_the_field_is_touched(tiny, tmp_path):
     for m, s in ((flat_m, s0), (peb_m, s1)):
         sim = R.simulate(m, s, fn, dict(p_from=p, p_to=p), 0.4, chunk=None, forward=fw)
         z.append(sim["pos"][:, -10:, R.O.trunk_index(m), 2].mean(axis=1))
+        # set down among the pebbles, no robot is thrown up (trunk within 3 cm of its start)
+        assert not R.exploded(m, sim).any()
+        assert sim["pos"][:, :, R.O.trunk_index(m), 2].max() < float(s.pos[0, 2]) + 0.03
     assert np.ptp(z[0]) < 1e-4  # the bare floor is the same everywhere
     assert (z[1] - z[0]).max() > 1e-3  # standing on pebbles lifts the trunk
     assert np.ptp(z[1]) > 1e-4  # and by how much depends on where it stands

@@ -16,7 +16,11 @@ so the batched simulation of :mod:`thesis.gaits.runner` is compiled once for all
   equal spheres resting on the floor, scattered uniformly over a strip along x
   (:func:`pebble_layout`); each evaluation starts at its own random place along the strip
   (:func:`start_range`), so every particle meets another arrangement. A different
-  topology from the other conditions: compiled once more.
+  topology from the other conditions: compiled once more. The robot starts set down on
+  the pebbles from just above them (:func:`above_pebbles`), as the assistant put it on the
+  treadmill by hand. Its contact rows take the field's own relaxation
+  (``pebbles.contact_relaxation``): the model's diverges where a foot touches the floor
+  and several pebbles at once.
 * **Softer front legs** (§4.6.2, "removing one of the two springs in each of the robot's
   front legs"): the extension spring of the front knees (``LF_cable``, ``RF_cable``, the
   knee springs of :mod:`thesis.physics.models.oncilla`) scaled by ``front_spring_factor``
@@ -176,13 +180,27 @@ def start_range(cfg, name: str, duration: float):
     return lo, hi
 
 
+def above_pebbles(state, diameter: float):
+    """``state`` with every body raised by the pebbles' ``diameter`` [m].
+
+    The Oncilla's start pose stands on the bare floor. Moved to a start among the pebbles
+    its feet would overlap pebbles by up to their diameter, and the solver would push them
+    apart within a step: a robot so started is thrown up (its trunk metres high within
+    0.1 s), no physics of the treadmill. Raised by the diameter, no contact sphere can
+    overlap a pebble resting on the floor, whatever its start; the robot then settles onto
+    the pebbles, a drop of at most one diameter, during the protocol's settle time."""
+    return state.replace(pos=state.pos.at[..., 2].add(jnp.asarray(diameter, state.pos.dtype)))
+
+
 @functools.lru_cache(maxsize=2)
 def _pebbly(key: str, root_seed: int):
     cfg = json.loads(key)
     centres, r = pebble_layout(cfg, root_seed)
-    return O.oncilla(**oncilla_kwargs(cfg["model"], cfg["tether"]),
-                     field=dict(name="pebbles", centres=centres, radii=r,
-                                k=int(cfg["pebbles"]["k"])))
+    kw = oncilla_kwargs(cfg["model"], cfg["tether"])
+    kw["contact_relaxation"] = float(cfg["pebbles"]["contact_relaxation"])
+    model, state = O.oncilla(**kw, field=dict(name="pebbles", centres=centres, radii=r,
+                                              k=int(cfg["pebbles"]["k"])))
+    return model, above_pebbles(state, 2.0 * r)
 
 
 def condition_model(cfg, name: str, root_seed: int | None = None):
