@@ -97,8 +97,8 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   at 0.5 it stood, but 13 of 24 random PSO gaits "exploded" (trunk thrown tens of metres
   up); 30 sweeps at 0.3 stand still and kept those gaits physical (as did halving dt, at
   twice the cost). These are this function's defaults (30 sweeps, ``sweep_order="jacobi"``,
-  relaxation 0.3), which the smoke profile uses. **The chapters' solver**
-  (``ch3/ch4/ch6.model``): 120 sweeps in the ``blocks_first`` order at relaxation 1.0, the
+  relaxation 0.3), which the smoke profile uses. **The chapters' former solver**
+  (before the momentum order below): 120 sweeps in the ``blocks_first`` order at relaxation 1.0, the
   contact rows at 0.3 (:mod:`thesis.physics.solver`, Sweep order, Contact relaxation). In
   the Jacobi order the servo and limit rows of the scapula/hip joint converge slowly: at 120
   sweeps the scapulae swung up to 8 deg off their command (V6), and Tab. 3.1b's spline
@@ -117,7 +117,7 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   twice its sweeps (480). By that rule the chapters keep blocks first. **Warm start**
   (``warm_start``): the engine's 0.85; 1.0 helps the Jacobi order (120 sweeps then give
   about 480's speeds) but was not needed. **Momentum order** (``sweep_order="momentum"``,
-  ``momentum``, ``row_relaxation``, ``momentum_restart``; opt-in, no chapter uses it): the
+  ``momentum``, ``row_relaxation``, ``momentum_restart``; the chapters' order, below): the
   blocks-first sweeps from extrapolated impulses (:mod:`thesis.physics.solver`, Momentum);
   ``thesis bench solver`` measures its sweeps against the direct solution (config
   ``physics.solver_bench``: momentum 0.85 with the joint blocks at 0.65, the other rows at
@@ -162,7 +162,11 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   % of the starts at every setting). So no step within twice the chapters' CPU converges
   every case, and a finer one would also need the fit made again at it: the chapters keep
   0.625 ms, declared not converged, and every verdict that rests on the Oncilla is shown
-  beside ``model/convergence``'s verdict (ch3.oncilla_model). Five contacts per foot cost
+  beside ``model/convergence``'s verdict (ch3.oncilla_model). On ch4's pebble field the
+  contact rows take 0.3 (``ch4.pebbles.contact_relaxation``): at the chapters' 0.5 the
+  momentum order diverges where a foot's five spheres each touch the floor and three
+  pebbles (Tab. 4.4's optima thrown up at 20 sweeps, metres high at 80; none thrown at 0.3
+  with 20, 40 or 80 sweeps). Five contacts per foot cost
   1.6x the CPU of one; this step 1.35x the CPU per simulated second of 2.5 ms / 120
   blocks-first sweeps with plates (Tab. 3.1b at 1.5 Hz, 16 robots, median of 3).
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
