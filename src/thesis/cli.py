@@ -8,8 +8,8 @@
   calibration to V1, into ``results/<profile>/model/validation.nc``, ``convergence.nc``
   and ``calibration.nc``, and V7, Tab. 4.4's pebble optima on the pebble field, into
   ``pebbles.nc``; ``--only fit`` (only when named) the fit of its unsourced values
-  (``model/fit.nc``, :mod:`thesis.modelcheck.fit`); ``thesis validate puppy``: the Puppy II's recordings in dt and
-  sweeps, into ``model/puppy_convergence.nc``.
+  (``model/fit.nc``, :mod:`thesis.modelcheck.fit`); ``thesis validate puppy``: the Puppy
+  II's recordings in dt and sweeps, into ``model/puppy_convergence.nc``.
 - ``thesis check --profile smoke``: decide every claim from the profile's results and
   write ``results/<profile>/claims.json``, and the decision rules' power table beside it
   (``claims_power.json``).
@@ -169,7 +169,8 @@ def _cmd_bench(args) -> int:
 
 def _cmd_validate(args) -> int:
     """``thesis validate oncilla``: the model's validation (V1-V6), its convergence
-    table, calibration and pebble target (V7), written to ``results/<profile>/model/`` (``--only`` one of them)."""
+    table, calibration and pebble target (V7), written to ``results/<profile>/model/``
+    (``--only`` one of them)."""
     if args.robot not in registry.VALIDATIONS:
         known = ", ".join(sorted(registry.VALIDATIONS))
         raise SystemExit(f"unknown robot {args.robot!r} to validate; available: {known}")

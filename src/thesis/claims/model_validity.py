@@ -12,10 +12,10 @@ quantities V1-V5 check) and on its gait families' ranking (V5), so every failed 
 listed for each of them. A claim whose required results come from chapter 4's pebble runs
 (:data:`PEBBLE_RESULTS`) rests on the robot walking the pebble field as well: where V7
 (Tab. 4.4's pebble optima on that field, ``model/pebbles``,
-:mod:`thesis.modelcheck.pebbles`) failed, it is listed for those claims alone. A model whose convergence table (``model/convergence``,
-:mod:`thesis.modelcheck.convergence_rule`) decides "not converged" is not validated
-either: its speeds and falls change with the time step or the solver sweeps, so the
-table's failed settings are listed beside the failed targets (as "convergence"). An
+:mod:`thesis.modelcheck.pebbles`) failed, it is listed for those claims alone. A model
+whose convergence table (``model/convergence``, :mod:`thesis.modelcheck.convergence_rule`)
+decides "not converged" is not validated either: its speeds and falls change with the
+time step or the solver sweeps, so the table's failed settings are listed beside the failed targets (as "convergence"). An
 inconclusive table does not make a claim unvalidated, but it does not validate it either:
 the record names it (``convergence_inconclusive``) and the report says so beside the
 verdict. A table written before the three-valued rule (no ``verdict``) is not read.

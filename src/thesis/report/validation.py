@@ -5,8 +5,8 @@ inside or outside the model's reach, the convergence table in dt and solver swee
 knee spring's calibration to V1 (``calibration.nc``, :mod:`thesis.modelcheck.calibration`),
 the fit of the unsourced values to the split's fitted side (``fit.nc``,
 :mod:`thesis.modelcheck.fit`), V7, Tab. 4.4's pebble optima on chapter 4's pebble field
-(``pebbles.nc``, :mod:`thesis.modelcheck.pebbles`), and the Puppy II's recordings in dt and sweeps (``puppy_convergence.nc``,
-:mod:`thesis.modelcheck.puppy_convergence`).
+(``pebbles.nc``, :mod:`thesis.modelcheck.pebbles`), and the Puppy II's recordings in dt and
+sweeps (``puppy_convergence.nc``, :mod:`thesis.modelcheck.puppy_convergence`).
 
 Every number is read from the datasets; without one a table says "not run".
 """
