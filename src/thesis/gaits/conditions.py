@@ -184,11 +184,11 @@ def above_pebbles(state, diameter: float):
     """``state`` with every body raised by the pebbles' ``diameter`` [m].
 
     The Oncilla's start pose stands on the bare floor. Moved to a start among the pebbles
-    its feet would overlap pebbles by up to their diameter, and the solver would push them
-    apart within a step: a robot so started is thrown up (its trunk metres high within
-    0.1 s), no physics of the treadmill. Raised by the diameter, no contact sphere can
-    overlap a pebble resting on the floor, whatever its start; the robot then settles onto
-    the pebbles, a drop of at most one diameter, during the protocol's settle time."""
+    its feet would overlap pebbles by up to their diameter, which no robot put on the belt
+    does, and the solver would push them out within the first steps. Raised by the
+    diameter, no contact sphere can overlap a pebble resting on the floor, whatever its
+    start; the robot then settles onto the pebbles, a drop of at most one diameter, during
+    the protocol's settle time."""
     return state.replace(pos=state.pos.at[..., 2].add(jnp.asarray(diameter, state.pos.dtype)))
 
 
