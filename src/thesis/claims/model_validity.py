@@ -14,16 +14,16 @@ listed for each of them. A claim whose required results come from chapter 4's pe
 (Tab. 4.4's pebble optima on that field, ``model/pebbles``,
 :mod:`thesis.modelcheck.pebbles`) failed, it is listed for those claims alone. A model
 whose convergence table (``model/convergence``, :mod:`thesis.modelcheck.convergence_rule`)
-decides "not converged" is not validated either: its speeds and falls change with the
-time step or the solver sweeps, so the table's failed settings are listed beside the failed targets (as "convergence"). An
-inconclusive table does not make a claim unvalidated, but it does not validate it either:
-the record names it (``convergence_inconclusive``) and the report says so beside the
-verdict. A table written before the three-valued rule (no ``verdict``) is not read.
-Chapter 5's claims rest on the simulated Puppy II's recordings (``requires`` under
-``ch5/``): where its convergence table (``model/puppy_convergence``,
+decides "not converged" is not validated either: its speeds and falls change with the time
+step or the solver sweeps, so the table's failed settings are listed beside the failed
+targets (as "convergence"). An inconclusive table does not make a claim unvalidated, but it
+does not validate it either: the record names it (``convergence_inconclusive``) and the
+report says so beside the verdict. A table written before the three-valued rule (no
+``verdict``) is not read. Chapter 5's claims rest on the simulated Puppy II's recordings
+(``requires`` under ``ch5/``): where its convergence table (``model/puppy_convergence``,
 :mod:`thesis.modelcheck.puppy_convergence`) decides "not converged", they carry the same
-flag with that table as the failed target ("Puppy II convergence"), and an inconclusive
-one is named as the Oncilla's is. They carry it too where the Puppy II's terrain check
+flag with that table as the failed target ("Puppy II convergence"), and an inconclusive one
+is named as the Oncilla's is. They carry it too where the Puppy II's terrain check
 (``model/puppy_heldout``, ``thesis bench puppy-heldout``,
 :mod:`thesis.modelcheck.puppy_heldout`) shows that the recordings lack what the real
 robot's had: the terrain carrying across gaits (§5.3-5.4), failed ("Puppy II terrains
@@ -96,11 +96,16 @@ def failed_targets(results: Mapping, conv: dict | None) -> list[dict] | None:
     ds = results.get(VALIDATION_KEY)
     if ds is None and conv is None:
         return None
-    failed = [] if ds is None else [
-        {"target": str(t), "text": str(txt)}
-        for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
-                             ds["target_text"].values) if not int(p)]
+    failed = [] if ds is None else _failed_rows(ds)
     return failed + ([conv] if conv and conv["failed"] else [])
+
+
+def _failed_rows(ds) -> list[dict]:
+    """``[{"target": ..., "text": ...}]`` of the targets a validation dataset (``target``,
+    ``target_passed``, ``target_text``) records as failed."""
+    return [{"target": str(t), "text": str(txt)}
+            for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
+                                 ds["target_text"].values) if not int(p)]
 
 
 def convergence_failure(results: Mapping, key: str, target: str) -> dict | None:
@@ -149,11 +154,7 @@ def pebble_failures(results: Mapping) -> list[dict] | None:
     """V7 of ``results[PEBBLES_KEY]`` as ``[{"target": "V7", "text": ...}]`` where it
     failed, empty where it passed; None when the check was not run."""
     ds = results.get(PEBBLES_KEY)
-    if ds is None:
-        return None
-    return [{"target": str(t), "text": str(txt)}
-            for t, p, txt in zip(ds["target"].values, ds["target_passed"].values,
-                                 ds["target_text"].values) if not int(p)]
+    return None if ds is None else _failed_rows(ds)
 
 
 def rests_on_pebbles(requires: Iterable[str]) -> bool:

@@ -31,8 +31,8 @@ from thesis.modelcheck.validation import _a
 
 #: The floors each gait runs on: the pebble field (decided) and flat ground (beside it).
 FLOORS = ("pebbly", "flat")
-#: The robot state quantities kept per run (:data:`thesis.ch4.transfer_runs.REEVAL_FIELDS`).
-FIELDS = ("speed", "score", "fallen", "taut", "thread_force")
+#: What each run keeps: what chapter 4 keeps of a re-evaluation.
+FIELDS = TR.REEVAL_FIELDS
 
 
 def pebble_starts(ch4: dict, root_seed: int, gaits: int, starts: int) -> tuple[np.ndarray,
