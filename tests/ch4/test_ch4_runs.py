@@ -1,7 +1,8 @@
 """One condition of chapter 4's protocol end to end at a tiny size: the flat source run,
 the transfer run with softer front legs, the safety-thread comparison and the derived
-artifacts, with the layouts thesis.claims.ch4 reads; a NaN stops a run with its
-condition, seed and generation and nothing is written."""
+artifacts, with the layouts thesis.claims.ch4 reads; a NaN, in a generation or a
+re-evaluation, stops a run with its condition, seed and generation and nothing is
+written."""
 
 from __future__ import annotations
 
@@ -170,6 +171,27 @@ def test_nan_stops_with_condition_seed_and_generation_and_writes_nothing(tiny, m
     assert err.value.seed in cfg["ch4"]["seeds"]
     assert not out.exists()
     assert not list(tmp_path.iterdir())
+
+
+def test_a_non_finite_re_evaluation_stops_with_its_run_seed_and_step(tiny, monkeypatch):
+    """The best particles' re-evaluations stop the run like a generation does: the last
+    re-evaluated row is the random arm's (transfer=0) rank-2 best of the last seed."""
+    cfg, ctx, _, _, inputs = tiny
+    real = TR.evaluate_particles
+
+    def last_reeval_diverges(model, state, c, p_from, p_to, **kw):
+        terms = real(model, state, c, p_from, p_to, **kw)
+        if p_from is p_to:  # a re-evaluation from standstill in the particle's own pose
+            terms["finite"] = terms["finite"].copy()
+            terms["finite"][len(p_to) - 1] = False
+        return terms
+
+    monkeypatch.setattr(TR, "evaluate_particles", last_reeval_diverges)
+    with pytest.raises(SimulationDiverged, match="particle 11, repeat 1") as err:
+        TR.transfer_compliant(ctx("ch4/transfer_compliant", {"flat": inputs["flat"]}))
+    assert err.value.experiment == "ch4/transfer_compliant:compliant/transfer=0/reeval"
+    assert err.value.seed == cfg["ch4"]["seeds"][-1]
+    assert err.value.step == TINY["ch4"]["pso"]["generations"]
 
 
 def test_corrupt_flat_input_is_named(tiny, tmp_path):

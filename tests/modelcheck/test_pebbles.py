@@ -72,5 +72,5 @@ def test_a_non_finite_run_stops_the_check(monkeypatch):
 
     monkeypatch.setattr(PB.TR, "evaluate_particles", evaluate)
     monkeypatch.setattr(PB.C, "condition_model", lambda *a: (None, None))
-    with pytest.raises(SimulationDiverged, match="model/pebbles:pebbly.*gait 2, start 1"):
+    with pytest.raises(SimulationDiverged, match="model/pebbles:pebbly.*particle 2, repeat 1"):
         PB.pebbles(_ctx(starts=2))

@@ -33,7 +33,7 @@ walked before its window was the gait under test.
 All robots of a generation, every seed and arm, run as batched simulations of a fixed
 size (``seeds x particles``; smaller batches are padded and the padding discarded), so
 one compiled rollout serves the whole chapter (:func:`evaluate_particles`). A robot whose
-simulation is not finite stops the experiment with
+simulation is not finite, in a generation or a re-evaluation, stops the experiment with
 :class:`thesis.errors.SimulationDiverged` naming its run, condition, arm, seed and
 generation; nothing is written.
 """
@@ -298,7 +298,7 @@ REEVAL_FIELDS = ("speed", "score", "fallen", "taut", "thread_force")
 
 
 def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Timing,
-               forward=None) -> dict:
+               label, step: int, forward=None) -> dict:
     """Re-evaluate particles from standstill, ``reeval.repeats`` times each.
 
     Each repeat starts standing in the particle's own pose (``p_from`` = ``p_to``) with
@@ -307,11 +307,16 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
     Args:
         particles: (m, 12) parameter vectors.
         headings: (m, repeats) initial headings [rad] (:func:`reeval_headings`).
+        label: ``row -> (experiment, seed)`` naming the run of particle ``row`` (m rows).
+        step: the optimisation step the re-evaluation follows (its generation count).
         forward: optional (m, repeats) start positions along x [m] (a pebble strip).
 
     Returns:
         dict of (m, repeats) ``speed``, ``score``, ``fallen``, ``taut``,
         ``thread_force``.
+
+    Raises:
+        SimulationDiverged: a repeat's recorded pose was not finite (no result is written).
     """
     headings = np.asarray(headings, np.float64)
     reps = headings.shape[1]
@@ -319,6 +324,11 @@ def reevaluate(model, state, cfg, particles, headings, *, unit: int, timing: Tim
     fw = None if forward is None else np.asarray(forward, np.float64).reshape(-1)
     terms = evaluate_particles(model, state, cfg, p, p, unit=unit, timing=timing,
                                heading=headings.reshape(-1), forward=fw)
+    if not terms["finite"].all():
+        bad = int(np.flatnonzero(~terms["finite"])[0])
+        what, seed = label(bad // reps)
+        raise SimulationDiverged(what, seed, step, f"a recorded pose of the re-evaluation of "
+                                                   f"particle {bad // reps}, repeat {bad % reps}")
     return {k: np.asarray(terms[k], np.float64).reshape(-1, reps) for k in REEVAL_FIELDS}
 
 
@@ -426,7 +436,8 @@ def flat(ctx) -> xr.Dataset:
     best_pos = np.stack([pos[i, g, k] for i, (g, k) in enumerate(best)])
     heads = np.concatenate([reeval_headings(cfg, ctx.root_seed, "ch4/flat/reeval", s, 1)
                             for s in seeds])
-    re = reevaluate(model, state, cfg, best_pos, heads, unit=unit, timing=timing)
+    re = reevaluate(model, state, cfg, best_pos, heads, unit=unit, timing=timing, step=G,
+                    label=lambda row: ("ch4/flat:flat/reeval", seeds[row]))
     dims = ("seed", "generation", "particle")
     ds = xr.Dataset(
         dict(**_particle_vars(dims, pos, fields),
@@ -520,7 +531,9 @@ def transfer_conditions(ctx, names: Sequence[str]) -> xr.Dataset:
         heads = np.concatenate(heads)
         fw = None if starts is None else starts(G, heads.size).reshape(heads.shape)
         out = reevaluate(model, state, cfg, np.stack([best_pos[i, ci, t, r] for i, t, r in todo]),
-                         heads, unit=unit, timing=timing, forward=fw)
+                         heads, unit=unit, timing=timing, forward=fw, step=G,
+                         label=lambda row, n=name: (f"{ctx.key}:{n}/transfer={todo[row][1]}"
+                                                    "/reeval", seeds[todo[row][0]]))
         for j, (i, t, r) in enumerate(todo):
             for k in re:
                 re[k][i, ci, t, r] = out[k][j]

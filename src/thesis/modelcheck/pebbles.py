@@ -24,7 +24,6 @@ import xarray as xr
 
 from thesis import seeding
 from thesis.ch4 import transfer_runs as TR
-from thesis.errors import SimulationDiverged
 from thesis.gaits import conditions as C
 from thesis.modelcheck import targets as TG
 from thesis.modelcheck.validation import _a
@@ -58,16 +57,10 @@ def run_floor(ch4: dict, root_seed: int, floor: str, params: np.ndarray, heading
     """
     model, state = C.condition_model(ch4, floor, root_seed)
     g, r = heading.shape
-    p = np.repeat(np.asarray(params, np.float64), r, axis=0)
-    terms = TR.evaluate_particles(model, state, ch4, p, p, unit=g * r, timing=timing,
-                                  heading=heading.reshape(-1),
-                                  forward=None if forward is None else forward.reshape(-1))
-    if not terms["finite"].all():
-        bad = int(np.flatnonzero(~terms["finite"])[0])
-        # one evaluation per robot, as chapter 4's generation 0: the step is the evaluation
-        raise SimulationDiverged(f"model/pebbles:{floor}", int(root_seed), 0,
-                                 f"a recorded pose of gait {bad // r}, start {bad % r}")
-    return {k: np.asarray(terms[k], np.float64).reshape(g, r) for k in FIELDS}
+    # one evaluation per robot, as chapter 4's generation 0: the step is the evaluation
+    return TR.reevaluate(model, state, ch4, params, heading, unit=g * r, timing=timing,
+                         forward=forward, step=0,
+                         label=lambda row: (f"model/pebbles:{floor}", int(root_seed)))
 
 
 def pebbles(ctx) -> xr.Dataset:
