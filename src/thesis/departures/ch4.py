@@ -65,7 +65,10 @@ DEPARTURES: tuple[Departure, ...] = (
              "(ch4.oncilla_fit). The plate's 0.02 kg is taken from the foot segment (each leg "
              "keeps its mass); the rounded heel is its bounding rectangle; whether the "
              "render's contact shape is the drawn plate is not shown (thesis.physics.models."
-             "oncilla, Foot plates). Five contacts per foot cost about 1.6x the CPU of one.",
+             "oncilla, Foot plates). Five contacts per foot cost about 1.6x the CPU of one. "
+             "Measured against point toes on the same fitted values: the plates keep the "
+             "published gaits up and make the spline faster than its theoretical speed "
+             "(V2, V4 fail on it; thesis.physics.models.oncilla, Foot plates).",
         why="A point foot gives no moment about the diagonal support line of a trot, where "
             "the published gaits tip; the render is the only source of the feet's form. "
             "Where the render leaves a dimension open it is a calibration parameter "

@@ -228,7 +228,18 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   body is the segment (0.04 kg, its box) and the plate (a solid box) together, its origin
   at their common centre of mass (the drawn segment box sits there, about 2 cm toward the
   toe of the segment's middle). The corner spheres are added after the four toe spheres,
-  so :func:`toe_spheres` keeps its indices (:func:`plate_spheres`).
+  so :func:`toe_spheres` keeps its indices (:func:`plate_spheres`). **What the plates do
+  to the validation** (``thesis validate oncilla --only validation --profile default``, and
+  the same with ``--set ch4.model.feet=sphere``: the fitted values kept, only the feet
+  changed): they keep the published gaits up (7 of 85 runs fall, 33 with point toes) and
+  cost V2's top speed and V4's linearity. With plates the splines run above their
+  theoretical speed (share 1.06-1.29: Tab. 3.1b from 2 Hz, Tab. 4.2's optimum from 1.5
+  Hz; at most 0.85 with point toes), the trunk gaining 20-88 mm per cycle over the
+  theoretical stride, up to about the fitted plate's 75-mm length: no case has a flight
+  phase, and a fore plate's loaded corners advance heel to toe (Tab. 3.1b at 2.6 Hz:
+  56-64 mm per cycle, 1-2 mm of it sliding), so the plate acts as a rocker that
+  lengthens the stride. The half ellipse's share falls from 0.92 at 1 Hz to 0.61 at 2 Hz
+  (R^2 0.904); with point toes it is linear (0.72-0.82, R^2 1.000).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction 0.8
   (rubber on a dry hard surface, docs/sources.md#oncilla-feet). Four 20 mm bumper spheres at
   the trunk's lower corners catch a fall. The floor plane z = 0 carries the material
