@@ -154,25 +154,24 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   inconclusive (no case beyond 3 % with its interval; the largest, Tab. 3.1b at 1.5 Hz,
   +6.4 %, interval down to -5.3 %). V3 fails at every setting (7 / 11 / 9 of 85 runs; at
   this step all at 1 Hz: Tab. 3.1b 3 of 5, Tab. 4.2's flat optimum 4 of 5), so its falls
-  are the model's, not the step's. V6 fails at this step on one run of 85 (2.6
-  deg: Tab. 3.1b at 0.5 Hz, a kick to the right fore scapula in one 10-ms period as the
-  robot, rolled 30 deg, comes back onto that foot; it decays within 0.3 s) and passes
-  under half the step (0.70 deg; at most 0.87 over the table's 30 starts per case).
-  Half this step (0.3125 ms, twice the CPU; the
-  same table with ``--set ch4.model.dt=0.0003125``) is not converged either: under its
-  own half step Tab. 4.2's flat optimum at 0.5 Hz moves +12.6 % (Bonferroni interval
-  +4.7 to +17.5 %) and the half ellipse at 1 Hz +5.3 % (+2.7 to +6.9 %); the 1.5-2 Hz
-  cases settle there, the slow gaits (0.5-1 Hz) do not, and the falls at 1 Hz stay (57-80
-  % of the starts at every setting). So no step within twice the chapters' CPU converges
-  every case, and a finer one would also need the fit made again at it: the chapters keep
-  0.625 ms, declared not converged, and every verdict that rests on the Oncilla is shown
-  beside ``model/convergence``'s verdict (ch3.oncilla_model). On ch4's pebble field the
-  contact rows take 0.3 (``ch4.pebbles.contact_relaxation``): at the chapters' 0.5 the
-  momentum order diverges where a foot's five spheres each touch the floor and three
-  pebbles (Tab. 4.4's optima thrown up at 20 sweeps, metres high at 80; none thrown at 0.3
-  with 20, 40 or 80 sweeps). Five contacts per foot cost
-  1.6x the CPU of one; this step 1.35x the CPU per simulated second of 2.5 ms / 120
-  blocks-first sweeps with plates (Tab. 3.1b at 1.5 Hz, 16 robots, median of 3).
+  are the model's, not the step's. V6 fails at this step on one run of 85 (2.6 deg:
+  Tab. 3.1b at 0.5 Hz, a kick to the right fore scapula in one 10-ms period as the robot,
+  rolled 30 deg, comes back onto that foot; it decays within 0.3 s) and passes under half
+  the step (0.70 deg; at most 0.87 over the table's 30 starts per case). Half this step
+  (0.3125 ms, twice the CPU; the same table with ``--set ch4.model.dt=0.0003125``) is not
+  converged either: under its own half step Tab. 4.2's flat optimum at 0.5 Hz moves +12.6
+  % (Bonferroni interval +4.7 to +17.5 %) and the half ellipse at 1 Hz +5.3 % (+2.7 to
+  +6.9 %); the 1.5-2 Hz cases settle there, the slow gaits (0.5-1 Hz) do not, and the falls
+  at 1 Hz stay (57-80 % of the starts at every setting). So no step within twice the
+  chapters' CPU converges every case, and a finer one would also need the fit made again at
+  it: the chapters keep 0.625 ms, declared not converged, and every verdict that rests on
+  the Oncilla is shown beside ``model/convergence``'s verdict (ch3.oncilla_model). On ch4's
+  pebble field the contact rows take 0.3 (``ch4.pebbles.contact_relaxation``): at the
+  chapters' 0.5 the momentum order diverges where a foot's five spheres each touch the floor
+  and three pebbles (Tab. 4.4's optima thrown up at 20 sweeps, metres high at 80; none
+  thrown at 0.3 with 20, 40 or 80 sweeps). Five contacts per foot cost 1.6x the CPU of one;
+  this step 1.35x the CPU per simulated second of 2.5 ms / 120 blocks-first sweeps with
+  plates (Tab. 3.1b at 1.5 Hz, 16 robots, median of 3).
 * **Drives** (liboncilla-hw, thesis §6.1; docs/sources.md#oncilla-drives). The hip and knee
   motors are brushless motors with position drivers: compliant drives
   (``Builder.add_compliant_servo``), a PD law on the motor angle with stiffness
