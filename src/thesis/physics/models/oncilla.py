@@ -238,11 +238,12 @@ foot plates' size are fitted, thesis.modelcheck.fit, departure ch4.oncilla_fit):
   cost V2's top speed and V4's linearity. With plates the splines run above their
   theoretical speed (share 1.06-1.29: Tab. 3.1b from 2 Hz, Tab. 4.2's optimum from 1.5
   Hz; at most 0.85 with point toes), the trunk gaining 20-88 mm per cycle over the
-  theoretical stride, up to about the fitted plate's 85-mm length: no case has a flight
-  phase, and a fore plate's loaded corners advance heel to toe (Tab. 3.1b at 2.6 Hz:
-  56-64 mm per cycle, 1-2 mm of it sliding), so the plate acts as a rocker that
-  lengthens the stride. The half ellipse's share falls from 0.92 at 1 Hz to 0.61 at 2 Hz
-  (R^2 0.904); with point toes it is linear (0.72-0.82, R^2 1.000).
+  theoretical stride ((speed - theoretical speed) / frequency of the validation's cases),
+  up to about the fitted plate's 85-mm length: the plate acts as a rocker that lengthens
+  the stride (on the trajectories no case has a flight phase, and the fore plates' loaded
+  corners advance heel to toe with little sliding). The half ellipse's share falls from
+  0.92 at 1 Hz to 0.61 at 2 Hz (R^2 0.904); with point toes it is linear (0.72-0.82, R^2
+  1.000).
 * **Feet**: a 10 mm contact sphere at each toe; rubber on the treadmill belt, friction 0.8
   (rubber on a dry hard surface, docs/sources.md#oncilla-feet). Four 20 mm bumper spheres at
   the trunk's lower corners catch a fall. The floor plane z = 0 carries the material
